@@ -1,0 +1,355 @@
+"""Footprints, walls and distances as pure numpy functions (no physics).
+
+Units are metres and radians (CCW). An object's footprint is the rectangle of
+half extents ``half = (width/2, depth/2)`` centred at ``pos`` and turned by
+``yaw``; local +y is the object's front. Corners are ordered CCW starting at
+the back-left corner: back-left, back-right, front-right, front-left, so edge
+0 (corner 0 → 1) is the back edge, edge 1 the right side, edge 2 the front,
+edge 3 the left side.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+from typing import TYPE_CHECKING
+
+import numpy as np
+import shapely
+
+if TYPE_CHECKING:
+    from forcelayout.plan import Room
+
+__all__ = [
+    "RoomGeometry",
+    "Openings",
+    "front_vectors",
+    "right_vectors",
+    "box_corners",
+    "box_gap",
+    "box_separation",
+    "obb_separation",
+    "point_segment_distance",
+    "wrap_angle",
+    "footprint_polygon",
+]
+
+_LOCAL_CORNERS = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+
+
+def wrap_angle(a: np.ndarray | float) -> np.ndarray:
+    """Wrap angles to ``[-pi, pi)`` radians."""
+    return (np.asarray(a) + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def front_vectors(yaw: np.ndarray) -> np.ndarray:
+    """Unit front directions ``(-sin yaw, cos yaw)``, shape ``yaw.shape + (2,)``."""
+    yaw = np.asarray(yaw, dtype=float)
+    return np.stack([-np.sin(yaw), np.cos(yaw)], axis=-1)
+
+
+def right_vectors(yaw: np.ndarray) -> np.ndarray:
+    """Unit local +x directions ``(cos yaw, sin yaw)``, shape ``yaw.shape + (2,)``."""
+    yaw = np.asarray(yaw, dtype=float)
+    return np.stack([np.cos(yaw), np.sin(yaw)], axis=-1)
+
+
+def box_corners(pos: np.ndarray, yaw: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Corners of oriented rectangles.
+
+    Parameters
+    ----------
+    pos : ndarray, shape (N, 2)
+        Centres, metres.
+    yaw : ndarray, shape (N,)
+        Headings, radians CCW.
+    half : ndarray, shape (N, 2)
+        Half width and half depth, metres.
+
+    Returns
+    -------
+    ndarray, shape (N, 4, 2)
+        Back-left, back-right, front-right, front-left corners (CCW).
+    """
+    r = right_vectors(yaw)[:, None, :]
+    f = front_vectors(yaw)[:, None, :]
+    local = _LOCAL_CORNERS[None, :, :] * half[:, None, :]
+    return pos[:, None, :] + local[..., :1] * r + local[..., 1:] * f
+
+
+def point_segment_distance(
+    p: np.ndarray, a: np.ndarray, b: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Distance from points to segments, broadcasting over leading axes.
+
+    Parameters
+    ----------
+    p, a, b : ndarray, shape (..., 2)
+        Points and segment end points (broadcastable).
+
+    Returns
+    -------
+    dist : ndarray, shape (...)
+        Euclidean distance, metres.
+    closest : ndarray, shape (..., 2)
+        The closest point on each segment.
+    """
+    ab = b - a
+    ap = p - a
+    denom = np.maximum((ab * ab).sum(-1), 1e-18)
+    t = np.clip((ap * ab).sum(-1) / denom, 0.0, 1.0)
+    closest = a + t[..., None] * ab
+    d = p - closest
+    return np.sqrt((d * d).sum(-1)), closest
+
+
+def obb_separation(
+    d: np.ndarray,
+    ra: np.ndarray,
+    fa: np.ndarray,
+    ha: np.ndarray,
+    rb: np.ndarray,
+    fb: np.ndarray,
+    hb: np.ndarray,
+) -> np.ndarray:
+    """Separating-axis clearance of oriented rectangles given by their axes.
+
+    The fast form of :func:`box_separation` used in the simulation loop.
+
+    Parameters
+    ----------
+    d : ndarray, shape (..., 2)
+        Centre of B minus centre of A.
+    ra, fa, rb, fb : ndarray, shape (..., 2)
+        Unit right and front axes of A and B.
+    ha, hb : ndarray, shape (..., 2)
+        Half extents (width/2, depth/2) of A and B.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        Signed clearance in metres (negative: overlap depth).
+    """
+    c = np.abs((ra * rb).sum(-1))
+    s = np.abs((ra * fb).sum(-1))
+    hax, hay, hbx, hby = ha[..., 0], ha[..., 1], hb[..., 0], hb[..., 1]
+    g1 = np.abs((d * ra).sum(-1)) - hax - (hbx * c + hby * s)
+    g2 = np.abs((d * fa).sum(-1)) - hay - (hbx * s + hby * c)
+    g3 = np.abs((d * rb).sum(-1)) - hbx - (hax * c + hay * s)
+    g4 = np.abs((d * fb).sum(-1)) - hby - (hax * s + hay * c)
+    return np.maximum(np.maximum(g1, g2), np.maximum(g3, g4))
+
+
+def box_separation(ca: np.ndarray, cb: np.ndarray) -> np.ndarray:
+    """Separating-axis clearance between oriented rectangles.
+
+    The largest gap of the two projections over the four edge normals: a
+    lower bound on the true distance when positive, minus the smallest
+    penetration depth when the rectangles overlap.
+
+    Parameters
+    ----------
+    ca, cb : ndarray, shape (..., 4, 2)
+        Corners as returned by :func:`box_corners`.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        Signed clearance in metres.
+    """
+    ca, cb = np.broadcast_arrays(ca, cb)
+    axes = np.stack([ca[..., 1, :] - ca[..., 0, :], ca[..., 3, :] - ca[..., 0, :],
+                     cb[..., 1, :] - cb[..., 0, :], cb[..., 3, :] - cb[..., 0, :]], axis=-2)
+    axes = axes / np.maximum(np.linalg.norm(axes, axis=-1, keepdims=True), 1e-12)
+    pa = np.einsum("...ck,...ak->...ac", ca, axes)  # (..., 4 axes, 4 corners)
+    pb = np.einsum("...ck,...ak->...ac", cb, axes)
+    gap = np.maximum(pb.min(-1) - pa.max(-1), pa.min(-1) - pb.max(-1))
+    return gap.max(-1)
+
+
+def box_gap(ca: np.ndarray, cb: np.ndarray) -> np.ndarray:
+    """Exact clearance between oriented rectangles (0 where they touch or overlap).
+
+    Parameters
+    ----------
+    ca, cb : ndarray, shape (..., 4, 2)
+        Corners as returned by :func:`box_corners`.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        Distance in metres, ``>= 0``.
+    """
+    ea = np.roll(ca, -1, axis=-2)
+    eb = np.roll(cb, -1, axis=-2)
+    # corners of one against every edge of the other: (..., 4 corners, 4 edges)
+    d1, _ = point_segment_distance(ca[..., :, None, :], cb[..., None, :, :], eb[..., None, :, :])
+    d2, _ = point_segment_distance(cb[..., :, None, :], ca[..., None, :, :], ea[..., None, :, :])
+    d = np.minimum(d1.min(axis=(-1, -2)), d2.min(axis=(-1, -2)))
+    return np.where(box_separation(ca, cb) > 0.0, d, 0.0)
+
+
+def footprint_polygon(corners: np.ndarray) -> shapely.Polygon:
+    """A shapely polygon of one footprint's (4, 2) corners."""
+    return shapely.Polygon(np.asarray(corners))
+
+
+@dataclass(frozen=True)
+class Openings:
+    """Doors or windows as arrays, one row per opening.
+
+    Attributes
+    ----------
+    wall : ndarray of int, shape (K,)
+    centre : ndarray, shape (K, 2)
+        Centre of the opening on its wall, metres.
+    tangent : ndarray, shape (K, 2)
+        Unit direction of the wall (from its start vertex to its end vertex).
+    normal : ndarray, shape (K, 2)
+        Unit normal pointing into the room.
+    width : ndarray, shape (K,)
+    """
+
+    wall: np.ndarray
+    centre: np.ndarray
+    tangent: np.ndarray
+    normal: np.ndarray
+    width: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.wall.shape[0])
+
+    @property
+    def a(self) -> np.ndarray:
+        """Start points of the openings on their walls, shape (K, 2)."""
+        return self.centre - self.tangent * self.width[:, None] * 0.5
+
+    @property
+    def b(self) -> np.ndarray:
+        """End points of the openings on their walls, shape (K, 2)."""
+        return self.centre + self.tangent * self.width[:, None] * 0.5
+
+
+class RoomGeometry:
+    """A room's floor polygon, walls and openings as numpy arrays.
+
+    Wall ``i`` runs from ``polygon[i]`` to ``polygon[i + 1]`` (wrapping).
+    The polygon may be given in either orientation; :attr:`normal` always
+    points into the room.
+
+    Parameters
+    ----------
+    polygon : array_like, shape (V, 2)
+        Floor polygon vertices, metres.
+    height : float
+        Ceiling height, metres.
+    doors, windows : list of (wall, offset, width) tuples
+        Openings; ``offset`` is the distance of the opening's centre from the
+        wall's start vertex.
+    """
+
+    def __init__(
+        self,
+        polygon: np.ndarray,
+        height: float = 2.7,
+        doors: list[tuple[int, float, float]] | None = None,
+        windows: list[tuple[int, float, float]] | None = None,
+    ):
+        self.polygon = np.asarray(polygon, dtype=float)
+        self.height = float(height)
+        self.a = self.polygon
+        self.b = np.roll(self.polygon, -1, axis=0)
+        d = self.b - self.a
+        self.length = np.linalg.norm(d, axis=1)
+        self.tangent = d / np.maximum(self.length[:, None], 1e-12)
+        x, y = self.polygon[:, 0], self.polygon[:, 1]
+        self.signed_area = 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+        sign = 1.0 if self.signed_area > 0 else -1.0
+        # inward normal: left of the direction of travel for a CCW polygon
+        self.normal = sign * np.stack([-self.tangent[:, 1], self.tangent[:, 0]], axis=1)
+        self.doors = self._openings(doors or [])
+        self.windows = self._openings(windows or [])
+
+    @classmethod
+    def from_room(cls, room: Room) -> RoomGeometry:
+        """Build from a :class:`forcelayout.plan.Room`."""
+        return cls(
+            np.asarray(room.polygon, dtype=float),
+            room.height,
+            [(d.wall, d.offset, d.width) for d in room.doors],
+            [(w.wall, w.offset, w.width) for w in room.windows],
+        )
+
+    def _openings(self, items: list[tuple[int, float, float]]) -> Openings:
+        if not items:
+            z2 = np.zeros((0, 2))
+            return Openings(np.zeros(0, dtype=int), z2, z2, z2, np.zeros(0))
+        wall = np.array([w for w, _, _ in items], dtype=int)
+        offset = np.array([o for _, o, _ in items], dtype=float)
+        width = np.array([w for _, _, w in items], dtype=float)
+        centre = self.a[wall] + self.tangent[wall] * offset[:, None]
+        return Openings(wall, centre, self.tangent[wall], self.normal[wall], width)
+
+    @cached_property
+    def door_squares(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Each door's swing square (door width deep into the room) as a box.
+
+        Returns
+        -------
+        centre, right, front, half : ndarray, shapes (D, 2)
+            Centre, unit axes (front points into the room) and half extents.
+        """
+        d = self.doors
+        centre = d.centre + d.normal * d.width[:, None] * 0.5
+        half = np.repeat(d.width[:, None] * 0.5, 2, axis=1)
+        return centre, d.tangent.copy(), d.normal.copy(), half
+
+    @property
+    def n_walls(self) -> int:
+        """Number of walls (= polygon vertices)."""
+        return int(self.polygon.shape[0])
+
+    @property
+    def area(self) -> float:
+        """Floor area, square metres."""
+        return abs(self.signed_area)
+
+    @cached_property
+    def shape(self) -> shapely.Polygon:
+        """The floor as a shapely polygon."""
+        return shapely.Polygon(self.polygon)
+
+    @cached_property
+    def centroid(self) -> np.ndarray:
+        """Floor centroid, shape (2,)."""
+        c = self.shape.centroid
+        return np.array([c.x, c.y])
+
+    @cached_property
+    def bounds(self) -> np.ndarray:
+        """``[xmin, ymin, xmax, ymax]`` of the floor."""
+        return np.array(self.shape.bounds)
+
+    def wall_distance(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Distance from points to every wall.
+
+        Parameters
+        ----------
+        points : ndarray, shape (..., 2)
+
+        Returns
+        -------
+        dist : ndarray, shape (..., W)
+        closest : ndarray, shape (..., W, 2)
+        """
+        return point_segment_distance(points[..., None, :], self.a, self.b)
+
+    def contains(self, points: np.ndarray) -> np.ndarray:
+        """Whether points lie inside the floor polygon (even-odd rule), shape (...)."""
+        p = np.asarray(points, dtype=float)
+        x, y = p[..., 0:1], p[..., 1:2]
+        ax, ay, bx, by = self.a[:, 0], self.a[:, 1], self.b[:, 0], self.b[:, 1]
+        crosses = (ay > y) != (by > y)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xint = ax + (y - ay) * (bx - ax) / (by - ay)
+        return (np.sum(crosses & (x < xint), axis=-1) % 2) == 1

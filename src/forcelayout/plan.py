@@ -1,0 +1,453 @@
+"""The scene plan: a room, its objects and the rules that place them.
+
+A plan is plain JSON, validated by pydantic models. Everything that would
+make a simulation fail is reported before any simulation, all problems at
+once, each with the JSON path of its field::
+
+    rules[4] (facing): unknown object 'chiar'. Did you mean 'chair'?
+
+Conventions: metres; wall ``i`` runs from ``polygon[i]`` to ``polygon[i+1]``;
+an opening's ``offset`` is the distance of its centre from ``polygon[i]``;
+an object's ``size`` is ``[width (local x), depth (local y), height]`` and
+local +y is its front.
+
+Examples
+--------
+>>> from forcelayout import Plan
+>>> plan = Plan.model_validate({
+...     "name": "tiny",
+...     "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]]},
+...     "objects": [{"id": "bed", "category": "bed", "size": [1.4, 2.0, 0.5]}],
+...     "rules": [{"rule": "at_wall", "object": "bed"}],
+... })
+>>> plan.object("bed").size
+(1.4, 2.0, 0.5)
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+import math
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import numpy as np
+import shapely
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
+
+from forcelayout.errors import PlanError, Problem
+
+__all__ = [
+    "Door",
+    "Window",
+    "Room",
+    "SceneObject",
+    "RuleSpec",
+    "AreaRule",
+    "Area",
+    "Plan",
+    "load_plan",
+    "SURFACE_RULES",
+    "MAX_FLOOR_FILL",
+]
+
+#: Rules that place an object off the floor (on a parent, a wall or the ceiling).
+SURFACE_RULES = frozenset({"on_top", "on_wall", "on_wall_mid", "above", "on_ceiling"})
+#: Largest fraction of the floor the floor objects' footprints may cover.
+MAX_FLOOR_FILL = 0.6
+
+Metres = Annotated[float, Field(allow_inf_nan=False)]
+PositiveMetres = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", populate_by_name=True)
+
+
+class _Opening(_Model):
+    wall: int = Field(ge=0, description="Index i of the wall polygon[i] -> polygon[i+1].")
+    offset: Metres = Field(ge=0, description="Distance of the opening's centre from polygon[i], m.")
+    width: PositiveMetres = Field(description="Opening width along the wall, m.")
+
+
+class Door(_Opening):
+    """A door on a wall; its swing square (width x width) inside the room is kept clear."""
+
+    width: PositiveMetres = Field(0.9, description="Door width along the wall, m.")
+    height: PositiveMetres = Field(2.05, description="Door height, m.")
+
+
+class Window(_Opening):
+    """A window on a wall, between ``sill`` and ``sill + height`` above the floor."""
+
+    width: PositiveMetres = Field(1.2, description="Window width along the wall, m.")
+    sill: Metres = Field(0.9, ge=0, description="Height of the window's bottom edge, m.")
+    height: PositiveMetres = Field(1.2, description="Window height, m.")
+
+
+class Room(_Model):
+    """The room: a simple floor polygon (any shape), a height, doors and windows."""
+
+    polygon: list[tuple[Metres, Metres]] = Field(
+        min_length=3, description="Floor polygon vertices [x, y] in metres, either orientation."
+    )
+    height: PositiveMetres = Field(2.7, description="Ceiling height, m.")
+    doors: list[Door] = Field(default_factory=list)
+    windows: list[Window] = Field(default_factory=list)
+
+    @property
+    def shape(self) -> shapely.Polygon:
+        """The floor as a shapely polygon."""
+        return shapely.Polygon(self.polygon)
+
+    def wall_length(self, i: int) -> float:
+        """Length of wall ``i`` in metres."""
+        a = self.polygon[i]
+        b = self.polygon[(i + 1) % len(self.polygon)]
+        return math.hypot(b[0] - a[0], b[1] - a[1])
+
+
+class SceneObject(_Model):
+    """One object of the plan (furniture, decor, fixtures)."""
+
+    id: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_.\-]+$",
+                    description="Unique id, e.g. 'nightstand_1'.")
+    category: str = Field(min_length=1, description="Object class, e.g. 'nightstand'.")
+    description: str = Field("", description="Free text used for asset retrieval.")
+    size: tuple[PositiveMetres, PositiveMetres, PositiveMetres] = Field(
+        description="[width (local x), depth (local y, front is +y), height] in metres."
+    )
+    area: str | None = Field(None, description="Functional area this object belongs to.")
+    primary: bool = Field(False, description="Primary objects must be reachable from a door.")
+    decor: bool = Field(False, description="Secondary (decorative) item; dropped by no_decor.")
+
+
+class RuleSpec(_Model):
+    """One rule binding: ``rule`` applied to ``object`` (and ``target``)."""
+
+    rule: str = Field(min_length=1, description="Registered rule name, e.g. 'next_to'.")
+    object: str = Field(min_length=1, description="Id of the object the rule places.")
+    target: str | None = Field(None, description="Id of the other object (binary rules).")
+    params: dict[str, Any] = Field(default_factory=dict, description="Rule parameters.")
+    weight: float | None = Field(None, ge=0, allow_inf_nan=False,
+                                 description="Strength multiplier; None uses the default.")
+
+
+class AreaRule(_Model):
+    """A rule for a whole functional area (e.g. the sleeping area at a wall)."""
+
+    rule: str = Field(min_length=1)
+    target: str | None = None
+    params: dict[str, Any] = Field(default_factory=dict)
+    weight: float | None = Field(None, ge=0, allow_inf_nan=False)
+
+
+class Area(_Model):
+    """A functional area (e.g. 'sleeping') grouping objects that are placed together."""
+
+    name: str = Field(min_length=1)
+    description: str = ""
+    rules: list[AreaRule] = Field(default_factory=list)
+
+
+class Plan(_Model):
+    """A declarative scene plan: room, objects, rules and functional areas.
+
+    Validation checks everything a simulation needs, and reports all
+    problems at once with their JSON paths (see :class:`PlanError`).
+    """
+
+    name: str = Field("plan", min_length=1)
+    description: str = ""
+    room: Room
+    objects: list[SceneObject] = Field(min_length=1)
+    rules: list[RuleSpec] = Field(default_factory=list)
+    areas: list[Area] = Field(default_factory=list)
+    weights: dict[str, Annotated[float, Field(ge=0, allow_inf_nan=False)]] = Field(
+        default_factory=dict,
+        description="Per-rule-name weight overrides for this plan, e.g. {'near': 0.5}.",
+    )
+
+    @field_validator("objects")
+    @classmethod
+    def _unique_ids(cls, v: list[SceneObject]) -> list[SceneObject]:
+        seen: set[str] = set()
+        for o in v:
+            if o.id in seen:
+                raise ValueError(f"object id {o.id!r} appears twice; ids must be unique")
+            seen.add(o.id)
+        return v
+
+    @model_validator(mode="after")
+    def _check(self) -> Plan:
+        problems = list(_semantic_problems(self))
+        if problems:
+            raise PlanError(problems)
+        return self
+
+    # -- access -----------------------------------------------------------------
+    def object(self, object_id: str) -> SceneObject:
+        """The object with id ``object_id``."""
+        for o in self.objects:
+            if o.id == object_id:
+                return o
+        raise KeyError(object_id)
+
+    @property
+    def ids(self) -> list[str]:
+        """Object ids in plan order."""
+        return [o.id for o in self.objects]
+
+    def surface_of(self, object_id: str) -> str:
+        """Where an object rests: ``"floor"``, or the surface rule that places it."""
+        for r in self.rules:
+            if r.object == object_id and r.rule in SURFACE_RULES:
+                return r.rule
+        return "floor"
+
+    def floor_objects(self) -> list[SceneObject]:
+        """Objects that stand on the floor (no surface rule binds them)."""
+        off = {r.object for r in self.rules if r.rule in SURFACE_RULES}
+        return [o for o in self.objects if o.id not in off]
+
+    # -- I/O --------------------------------------------------------------------
+    @classmethod
+    def from_json(cls, text: str | bytes) -> Plan:
+        """Parse and validate a plan from JSON text; raises :class:`PlanError`."""
+        try:
+            return cls.model_validate_json(text)
+        except ValidationError as e:
+            raise _plan_error(e) from None
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> Plan:
+        """Validate a plan from a dict; raises :class:`PlanError`."""
+        try:
+            return cls.model_validate(data)
+        except ValidationError as e:
+            raise _plan_error(e) from None
+
+    @classmethod
+    def load(cls, path: str | Path) -> Plan:
+        """Read and validate a plan JSON file; raises :class:`PlanError`."""
+        return cls.from_json(Path(path).read_text(encoding="utf-8"))
+
+    def to_json(self, *, indent: int | None = 2) -> str:
+        """The plan as JSON text (round-trips through :meth:`from_json`)."""
+        return self.model_dump_json(indent=indent, exclude_defaults=False)
+
+    def save(self, path: str | Path) -> Path:
+        """Write the plan as JSON to ``path``."""
+        path = Path(path)
+        path.write_text(self.to_json(), encoding="utf-8")
+        return path
+
+    @classmethod
+    def json_schema(cls) -> dict[str, Any]:
+        """JSON Schema of the plan, e.g. for an LLM's structured output."""
+        return cls.model_json_schema()
+
+
+def load_plan(source: str | Path | dict[str, Any] | Plan) -> Plan:
+    """Load a plan from a path, JSON text, a dict, or return a Plan unchanged.
+
+    A bare name such as ``"bedroom"`` loads a bundled example plan
+    (see :func:`forcelayout.examples.list_plans`).
+    """
+    if isinstance(source, Plan):
+        return source
+    if isinstance(source, dict):
+        return Plan.from_dict(source)
+    text = str(source)
+    if isinstance(source, str) and text.lstrip().startswith("{"):
+        return Plan.from_json(text)
+    path = Path(text)
+    if path.exists():
+        return Plan.load(path)
+    from forcelayout import examples
+
+    if text in examples.list_plans():
+        return examples.load_example(text)
+    raise FileNotFoundError(
+        f"no plan file {text!r}; give a path to a plan JSON or one of the bundled "
+        f"plans {examples.list_plans()}"
+    )
+
+
+# -- validation ------------------------------------------------------------------
+
+
+def _fmt_loc(loc: tuple[Any, ...]) -> str:
+    out = ""
+    for part in loc:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        else:
+            out += ("." if out else "") + str(part)
+    return out
+
+
+def _plan_error(e: ValidationError) -> PlanError:
+    problems: list[Problem] = []
+    for err in e.errors():
+        ctx_err = (err.get("ctx") or {}).get("error")
+        if isinstance(ctx_err, PlanError):
+            problems.extend(ctx_err.problems)
+            continue
+        msg = err["msg"].removeprefix("Value error, ")
+        if err["type"] == "extra_forbidden":
+            msg = "unknown field; remove it or check its spelling"
+        elif err["type"] == "missing":
+            msg = "required field is missing"
+        problems.append(Problem(_fmt_loc(err["loc"]), msg))
+    return PlanError(problems)
+
+
+def _did_you_mean(name: str, options: list[str]) -> str:
+    close = difflib.get_close_matches(name, options, n=1, cutoff=0.5)
+    return f" Did you mean {close[0]!r}?" if close else ""
+
+
+def _semantic_problems(plan: Plan) -> Iterator[Problem]:
+    from forcelayout import rules as registry
+
+    room = plan.room
+    poly = room.shape
+    # room polygon
+    if not poly.is_valid or not shapely.is_simple(poly.exterior) or poly.area <= 1e-9:
+        yield Problem("room.polygon", "the floor polygon must be simple (no self-intersections, "
+                      "no repeated vertices) with non-zero area; list its corners in order")
+        return
+    n_walls = len(room.polygon)
+    for kind, openings in (("doors", room.doors), ("windows", room.windows)):
+        for k, o in enumerate(openings):
+            path = f"room.{kind}[{k}]"
+            if o.wall >= n_walls:
+                yield Problem(f"{path}.wall", f"wall {o.wall} does not exist; the polygon has "
+                              f"walls 0..{n_walls - 1}")
+                continue
+            length = room.wall_length(o.wall)
+            if o.width > length + 1e-9:
+                yield Problem(f"{path}.width", f"{o.width:g} m is wider than wall {o.wall} "
+                              f"({length:.2f} m); use a narrower opening or another wall")
+            elif o.offset - o.width / 2 < -1e-9 or o.offset + o.width / 2 > length + 1e-9:
+                yield Problem(f"{path}.offset", f"the opening [{o.offset - o.width / 2:.2f}, "
+                              f"{o.offset + o.width / 2:.2f}] m leaves wall {o.wall} "
+                              f"(0..{length:.2f} m); offset is the centre's distance from "
+                              f"polygon[{o.wall}]")
+            if kind == "windows" and o.sill + o.height > room.height + 1e-9:  # type: ignore[union-attr]
+                yield Problem(f"{path}.height", "the window reaches above the ceiling")
+    # objects that cannot fit
+    minx, miny, maxx, maxy = poly.bounds
+    rect = poly.minimum_rotated_rectangle
+    rx, ry = rect.exterior.xy
+    sides = sorted({math.hypot(rx[1] - rx[0], ry[1] - ry[0]),
+                    math.hypot(rx[2] - rx[1], ry[2] - ry[1])})
+    short_side, long_side = sides[0], sides[-1]
+    off_floor = {r.object for r in plan.rules if r.rule in SURFACE_RULES}
+    floor_area = 0.0
+    for k, o in enumerate(plan.objects):
+        w, d, h = o.size
+        if min(w, d) > short_side + 1e-9 or max(w, d) > long_side + 1e-9 or w * d > poly.area:
+            yield Problem(f"objects[{k}].size", f"{o.id!r} ({w:g} x {d:g} m) is larger than the "
+                          f"room ({long_side:.2f} x {short_side:.2f} m); shrink it or the plan")
+        if h > room.height + 1e-9:
+            yield Problem(f"objects[{k}].size", f"{o.id!r} is {h:g} m tall but the ceiling is at "
+                          f"{room.height:g} m")
+        if o.id not in off_floor:
+            floor_area += w * d
+    if floor_area > MAX_FLOOR_FILL * poly.area:
+        yield Problem("objects", f"the floor objects cover {floor_area:.1f} m² of a "
+                      f"{poly.area:.1f} m² room (more than {MAX_FLOOR_FILL:.0%}); no valid layout "
+                      "can leave room to walk; remove objects or enlarge the room")
+    # rules
+    ids = plan.ids
+    areas = {a.name for a in plan.areas}
+    for k, r in enumerate(plan.rules):
+        path = f"rules[{k}] ({r.rule})"
+        if not registry.is_registered(r.rule):
+            yield Problem(path, f"unknown rule {r.rule!r}.{_did_you_mean(r.rule, registry.available_rules())}"
+                          " Run `forcelayout rules` for the vocabulary or register a plugin")
+            continue
+        rule = registry.get_rule(r.rule)
+        if r.object not in ids:
+            yield Problem(f"{path}.object", f"unknown object {r.object!r}.{_did_you_mean(r.object, ids)}")
+        needs_target = rule.kind == "binary" or r.rule in {"on_top", "above"}
+        if needs_target and r.target is None:
+            yield Problem(f"{path}.target", f"{r.rule!r} relates two objects; give a target id")
+        elif r.target is not None and r.target not in ids and r.target not in areas:
+            yield Problem(f"{path}.target", f"unknown object {r.target!r}.{_did_you_mean(r.target, ids)}")
+        elif r.target is not None and r.target == r.object:
+            yield Problem(f"{path}.target", "an object cannot be related to itself")
+        try:
+            rule.Params.model_validate(r.params)
+        except ValidationError as e:
+            for err in e.errors():
+                yield Problem(f"{path}.params.{_fmt_loc(err['loc'])}",
+                              f"{err['msg']}; {r.rule!r} takes {sorted(rule.Params.model_fields)}")
+    for name in plan.weights:
+        if not registry.is_registered(name) and name not in {"repulsion", "boundary", "alignment"}:
+            yield Problem(f"weights.{name}", f"unknown rule {name!r}."
+                          f"{_did_you_mean(name, registry.available_rules())}")
+    for k, o in enumerate(plan.objects):
+        if o.area is not None and plan.areas and o.area not in areas:
+            yield Problem(f"objects[{k}].area", f"unknown area {o.area!r}; declare it in 'areas'."
+                          f"{_did_you_mean(o.area, sorted(areas))}")
+    yield from _surface_problems(plan)
+
+
+def _surface_problems(plan: Plan) -> Iterator[Problem]:
+    parents: dict[str, str] = {}
+    placed: dict[str, int] = {}
+    for k, r in enumerate(plan.rules):
+        if r.rule not in SURFACE_RULES:
+            continue
+        if r.object in placed:
+            yield Problem(f"rules[{k}] ({r.rule})", f"{r.object!r} is already placed off the floor "
+                          f"by rules[{placed[r.object]}]; an object rests on one surface")
+            continue
+        placed[r.object] = k
+        if r.rule == "on_top" and r.target is not None:
+            parents[r.object] = r.target
+    ids = {o.id: o for o in plan.objects}
+    for k, r in enumerate(plan.rules):
+        if r.rule == "on_top" and r.target in ids and r.object in ids:
+            cw, cd, _ = ids[r.object].size
+            pw, pd, _ = ids[r.target].size
+            if min(cw, cd) > min(pw, pd) + 1e-9 or max(cw, cd) > max(pw, pd) + 1e-9:
+                yield Problem(f"rules[{k}] (on_top)", f"{r.object!r} ({cw:g} x {cd:g} m) does not "
+                              f"fit on top of {r.target!r} ({pw:g} x {pd:g} m)")
+    # cycles in on_top
+    for start in parents:
+        seen = [start]
+        cur = start
+        for _ in range(len(parents) + 1):
+            cur = parents.get(cur)  # type: ignore[assignment]
+            if cur is None:
+                break
+            if cur == start:
+                chain = " -> ".join([*seen, start])
+                yield Problem("rules", f"on_top cycle {chain}; an object cannot rest on itself")
+                break
+            seen.append(cur)
+        if cur == start:
+            break
+
+
+def footprint_area(plan: Plan) -> float:
+    """Total footprint of the floor objects, square metres."""
+    return float(sum(o.size[0] * o.size[1] for o in plan.floor_objects()))
+
+
+def object_sizes(plan: Plan) -> np.ndarray:
+    """Sizes of all objects, shape (N, 3), in plan order."""
+    return np.array([o.size for o in plan.objects], dtype=float)

@@ -1,0 +1,240 @@
+"""The :class:`Rule` base class and the numpy state every rule receives.
+
+Conventions (stated once, used everywhere): metres, radians, counter-clockwise
+angles, room coordinates. An object's size is ``[width, depth, height]`` along
+its local x, local y and z; local +y is its *front*. ``yaw = 0`` means the
+front faces world +y, so the front direction is ``(-sin yaw, cos yaw)`` and the
+local +x ("right-hand side" seen from behind the object) is
+``(cos yaw, sin yaw)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, ClassVar, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict
+
+from forcelayout import geometry as geo
+
+if TYPE_CHECKING:
+    from forcelayout.geometry import RoomGeometry
+
+__all__ = ["Rule", "State", "ParamArrays", "RuleKind"]
+
+RuleKind = Literal["unary", "binary", "surface"]
+
+
+@dataclass
+class State:
+    """Poses and sizes of the objects in one simulation, as numpy arrays.
+
+    Rules read it; only the solver writes it. Arrays are indexed by object
+    number ``0..N-1`` in the order of :attr:`ids`.
+
+    Attributes
+    ----------
+    pos : ndarray, shape (N, 2)
+        Footprint centres in room coordinates, metres.
+    yaw : ndarray, shape (N,)
+        Heading, radians CCW; 0 means the front faces +y.
+    size : ndarray, shape (N, 3)
+        ``[width, depth, height]`` in metres.
+    room : RoomGeometry
+        Walls, openings and the floor polygon as arrays.
+    ids : tuple of str
+        Object ids, one per row.
+    z : ndarray, shape (N,), optional
+        Height of each object's bottom above the floor, metres (finished
+        layouts only; ``None`` in floor simulations, where all are 0).
+    surfaces : tuple of str, optional
+        Where each object rests (``"floor"``, a parent id, ``"wall:<i>"``,
+        ``"ceiling"``); finished layouts only.
+    """
+
+    pos: np.ndarray
+    yaw: np.ndarray
+    size: np.ndarray
+    room: RoomGeometry
+    ids: tuple[str, ...] = ()
+    z: np.ndarray | None = None
+    surfaces: tuple[str, ...] | None = None
+    _cache: dict[str, np.ndarray] = field(default_factory=dict, repr=False, compare=False)
+
+    @property
+    def n(self) -> int:
+        """Number of objects."""
+        return int(self.pos.shape[0])
+
+    @property
+    def half(self) -> np.ndarray:
+        """Half extents ``(width/2, depth/2)``, shape (N, 2), metres."""
+        return self.size[:, :2] * 0.5
+
+    @property
+    def front(self) -> np.ndarray:
+        """Unit front directions (local +y in the world), shape (N, 2)."""
+        f = self._cache.get("front")
+        if f is None:
+            f = self._cache["front"] = geo.front_vectors(self.yaw)
+        return f
+
+    @property
+    def right(self) -> np.ndarray:
+        """Unit local +x directions in the world, shape (N, 2)."""
+        r = self._cache.get("right")
+        if r is None:
+            f = self.front
+            r = self._cache["right"] = np.stack([f[:, 1], -f[:, 0]], axis=1)
+        return r
+
+    def separation(self, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+        """Signed separating-axis clearance between footprints ``i`` and ``j``, metres.
+
+        A cheap lower bound on :meth:`gap` (exact when the footprints are
+        separated along one of their axes, the usual case); negative values
+        are overlap depths. Use it in :meth:`Rule.force`, and :meth:`gap` in
+        :meth:`Rule.satisfied`.
+        """
+        h = self.half
+        r, f = self.right, self.front
+        return geo.obb_separation(self.pos[j] - self.pos[i], r[i], f[i], h[i], r[j], f[j], h[j])
+
+    @property
+    def corners(self) -> np.ndarray:
+        """Footprint corners, shape (N, 4, 2), CCW from back-left."""
+        c = self._cache.get("corners")
+        if c is None:
+            h = self.half
+            r = self.right[:, None, :] * h[:, None, 0:1]
+            f = self.front[:, None, :] * h[:, None, 1:2]
+            c = self.pos[:, None, :] + geo._LOCAL_CORNERS[None, :, 0:1] * r \
+                + geo._LOCAL_CORNERS[None, :, 1:2] * f
+            self._cache["corners"] = c
+        return c
+
+    def gap(self, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+        """Clearance between footprints ``i`` and ``j`` in metres (0 if touching).
+
+        Exact distance between the two oriented rectangles, negative values
+        are clipped to 0. Vectorised over index arrays of equal shape.
+        """
+        return geo.box_gap(self.corners[i], self.corners[j])
+
+    def invalidate(self) -> None:
+        """Drop cached derived arrays after ``pos`` or ``yaw`` changed."""
+        self._cache.clear()
+
+
+class ParamArrays:
+    """Rule parameters of many bindings, one numpy array per field.
+
+    ``p.distance`` is an array of shape (B,) holding each binding's value, so
+    rule code written for one binding broadcasts over all of them.
+    ``p.weight`` holds the per-binding weight.
+    """
+
+    def __init__(self, fields: dict[str, np.ndarray], weight: np.ndarray):
+        self._fields = fields
+        self.weight = weight
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        try:
+            return self._fields[name]
+        except KeyError:
+            raise AttributeError(f"rule has no parameter {name!r}") from None
+
+    def __len__(self) -> int:
+        return int(self.weight.shape[0])
+
+    @classmethod
+    def from_models(cls, params: list[BaseModel], weight: np.ndarray) -> ParamArrays:
+        """Stack validated ``Params`` models of many bindings into arrays."""
+        fields: dict[str, np.ndarray] = {}
+        if params:
+            for name in type(params[0]).model_fields:
+                values = [getattr(q, name) for q in params]
+                if all(isinstance(v, bool) for v in values):
+                    fields[name] = np.array(values, dtype=bool)
+                elif all(isinstance(v, int | float) for v in values):
+                    fields[name] = np.array(values, dtype=float)
+                else:
+                    fields[name] = np.array(values, dtype=object)
+        return cls(fields, np.asarray(weight, dtype=float))
+
+
+class Rule:
+    """Base class of placement rules: one small class per rule.
+
+    A rule turns its bindings (object ``i``, optional target ``j``, params)
+    into forces and torques on the objects, vectorised over all bindings of
+    the rule at once, and judges whether a finished layout meets it. The same
+    class both pulls and judges, so the simulation and the report never
+    disagree about what the rule means.
+
+    Subclass attributes
+    -------------------
+    name : str
+        Registry name, set by :func:`forcelayout.rules.register`.
+    kind : {"unary", "binary", "surface"}
+        ``unary`` rules relate an object to the room, ``binary`` rules need a
+        ``target`` object, ``surface`` rules place an object off the floor.
+    weight : float
+        Default strength (dimensionless multiplier on the force). The paper's
+        order is repulsion > hard placement (``at_wall``) > soft relations
+        (``near``); plans may override it per rule or per binding.
+    reaction : float
+        Fraction of the force on ``i`` applied, reversed, to the target ``j``
+        (binary rules only). 0 keeps the target still, 0.5 splits the pull.
+    Params : pydantic model
+        Parameters with defaults and units in their descriptions.
+
+    Methods to override
+    -------------------
+    force(state, i, j, p) -> (F, tau)
+        ``F`` shape (B, 2) in newtons-per-weight on object ``i``, ``tau``
+        shape (B,) torque on ``i`` (CCW positive). Called every step with the
+        annealing temperature already folded into ``p.weight``.
+    satisfied(state, i, j, p) -> ndarray of bool, shape (B,)
+        Whether each binding is met in the given (finished) state.
+    """
+
+    name: ClassVar[str] = ""
+    kind: ClassVar[RuleKind] = "unary"
+    weight: ClassVar[float] = 1.0
+    reaction: ClassVar[float] = 0.0
+
+    class Params(BaseModel):
+        """No parameters."""
+
+        model_config = ConfigDict(extra="forbid", frozen=True)
+
+    def force(
+        self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Force (B, 2) and torque (B,) on each bound object ``i``."""
+        raise NotImplementedError(f"rule {self.name!r} does not define force()")
+
+    def satisfied(
+        self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays
+    ) -> np.ndarray:
+        """Whether each binding is met, shape (B,) of bool."""
+        raise NotImplementedError(f"rule {self.name!r} does not define satisfied()")
+
+    @classmethod
+    def summary(cls) -> str:
+        """First line of the rule's docstring."""
+        doc = (cls.__doc__ or "").strip()
+        return doc.splitlines()[0] if doc else ""
+
+    @classmethod
+    def param_info(cls) -> dict[str, dict[str, Any]]:
+        """Parameters as ``{name: {"default": ..., "description": ...}}``."""
+        return {
+            k: {"default": f.default, "description": f.description or ""}
+            for k, f in cls.Params.model_fields.items()
+        }
+
+    def __repr__(self) -> str:
+        return f"<rule {self.name!r} ({self.kind})>"

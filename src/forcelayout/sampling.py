@@ -1,0 +1,360 @@
+"""One plan → many layouts: seeded samples, checks, and any executor.
+
+:func:`solve` realises a plan once from a seed. :func:`generate` draws
+samples until ``n`` valid, distinct layouts are accepted or the attempt
+budget is spent, on any :class:`concurrent.futures.Executor` (a process
+pool on one machine, ``distributed.Client.get_executor()`` on a Dask
+cluster, Ray's executor, ...). Sample ``k`` of a run with seed ``s`` always
+uses the seed sequence ``(s, k)``, and samples are accepted in index order,
+so the result does not depend on the executor or the number of workers.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterator
+from concurrent.futures import Executor
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from forcelayout.errors import PlanError
+from forcelayout.forces import ForceModel
+from forcelayout.layout import Layout, Pose, SampleReport
+from forcelayout.plan import Plan, load_plan
+from forcelayout.solver import SolverConfig, simulate
+
+__all__ = ["Options", "Generation", "solve", "generate", "initial_poses", "sample_seed"]
+
+
+@dataclass(frozen=True)
+class Options:
+    """How samples are made and judged (all keyword arguments of :func:`generate`).
+
+    Attributes
+    ----------
+    solver : SolverConfig
+        Simulation parameters (annealing rate, step cap, thresholds).
+    relations : bool
+        ``False`` zeroes object-object rules (the −Relations ablation).
+    decor : bool
+        ``False`` removes secondary (``decor``) objects (the −Decor ablation).
+    min_rule_satisfaction : float
+        A sample meeting a smaller fraction of its rules is rejected.
+    check : bool
+        Run the deterministic checks (collisions, inside the room, door
+        clearance, navigability, reachability) and reject failures.
+    check_kwargs : dict
+        Thresholds passed to :func:`forcelayout.validate.check_layout`.
+    """
+
+    solver: SolverConfig = field(default_factory=SolverConfig)
+    relations: bool = True
+    decor: bool = True
+    min_rule_satisfaction: float = 0.0
+    check: bool = True
+    check_kwargs: dict[str, Any] = field(default_factory=dict)
+
+
+def sample_seed(seed: int, index: int) -> int:
+    """The seed of sample ``index`` of a run seeded with ``seed`` (a 63-bit int)."""
+    ss = np.random.SeedSequence([int(seed) & 0xFFFFFFFFFFFFFFFF, int(index)])
+    return int(ss.generate_state(1, dtype=np.uint64)[0] >> np.uint64(1))
+
+
+def initial_poses(
+    model: ForceModel, rng: np.random.Generator, *, tries: int = 40
+) -> tuple[np.ndarray, np.ndarray]:
+    """Random start poses inside the room, avoiding overlaps where possible.
+
+    Objects are placed largest first at uniformly random positions and
+    headings; each gets at most ``tries`` draws, keeping the draw with the
+    least overlap (so this never loops forever on a crowded plan).
+    """
+    room = model.room
+    n = model.n
+    pos = np.zeros((n, 2))
+    yaw = rng.uniform(-np.pi, np.pi, n)
+    lo, hi = room.bounds[:2], room.bounds[2:]
+    order = np.argsort(-(model.size[:, 0] * model.size[:, 1]), kind="stable")
+    placed: list[int] = []
+    for r in order:
+        best, best_score = None, -np.inf
+        for _ in range(tries):
+            p = rng.uniform(lo, hi)
+            st = model.state(np.vstack([pos, p[None]]), np.append(yaw, yaw[r]))
+            st.size = np.vstack([model.size, model.size[r:r + 1]])
+            c = st.corners[-1]
+            if not room.contains(np.vstack([c, p[None]])).all():
+                continue
+            d, _ = room.wall_distance(c)
+            score = min(float(d.min()), 0.3)
+            if placed:
+                sep = st.separation(np.full(len(placed), n), np.array(placed))
+                score = min(score, float(sep.min()))
+            if score > best_score:
+                best, best_score = p, score
+            if score >= 0.05:
+                break
+        pos[r] = best if best is not None else room.centroid
+        placed.append(int(r))
+    return pos, yaw
+
+
+def _plan_for(plan: Plan, opts: Options) -> Plan:
+    if opts.decor:
+        return plan
+    from forcelayout.ablation import without_decor
+
+    return without_decor(plan)
+
+
+def solve(
+    plan: Plan | str | dict[str, Any],
+    seed: int = 0,
+    *,
+    options: Options | None = None,
+    **kwargs: Any,
+) -> Layout:
+    """Realise a plan once.
+
+    Parameters
+    ----------
+    plan : Plan, path, JSON text, dict or bundled plan name
+    seed : int
+        Same plan + seed gives the same layout, bit for bit, on one machine.
+    options : Options, optional
+        Or give its fields as keyword arguments (``relations=False``, ...).
+
+    Returns
+    -------
+    Layout
+        Its ``report`` says whether it passed the checks and, if not, why.
+    """
+    opts = _options(options, kwargs)
+    plan = _plan_for(load_plan(plan), opts)
+    t0 = time.perf_counter()
+    rng = np.random.default_rng(seed)
+    model = ForceModel(plan, relations=opts.relations)
+    pos0, yaw0 = initial_poses(model, rng)
+    res = simulate(model, pos0, yaw0, opts.solver)
+    poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
+             for oid, p, y in zip(model.ids, res.pos, res.yaw, strict=True)}
+    placed = set(poses)
+    missing = [f"{o.id}: placed by {plan.surface_of(o.id)!r}, which this solver stage does not "
+               "place yet" for o in plan.objects if o.id not in placed]
+    report = SampleReport(seed=int(seed), steps=res.steps, converged=res.converged,
+                          missing=missing)
+    layout = Layout(plan, poses, seed, report)
+    _judge(layout, opts)
+    report.seconds = time.perf_counter() - t0
+    return layout
+
+
+def _judge(layout: Layout, opts: Options) -> None:
+    report = layout.report
+    report.rule_satisfaction = layout.rule_satisfaction
+    failures: list[str] = []
+    if not report.converged:
+        pass  # an unsettled but valid layout is still a layout; the checks decide
+    if opts.check:
+        from forcelayout.validate import check_layout
+
+        failures.extend(check_layout(layout, **opts.check_kwargs).failures)
+    if report.rule_satisfaction < opts.min_rule_satisfaction:
+        unmet = [f"{r.rule}({r.object}{', ' + r.target if r.target else ''})"
+                 for r in layout.rule_report() if r.satisfied is False]
+        failures.append(f"rules: {report.rule_satisfaction:.0%} met, below "
+                        f"{opts.min_rule_satisfaction:.0%}; unmet: {', '.join(unmet)}")
+    report.failures = failures
+    report.valid = not failures
+
+
+def _options(options: Options | None, kwargs: dict[str, Any]) -> Options:
+    opts = options or Options()
+    if kwargs:
+        unknown = set(kwargs) - set(Options.__dataclass_fields__)
+        if unknown:
+            raise TypeError(f"unknown option(s) {sorted(unknown)}; "
+                            f"valid: {sorted(Options.__dataclass_fields__)}")
+        opts = replace(opts, **kwargs)
+    return opts
+
+
+def _sample(plan: Plan, seed: int, opts: Options) -> Layout:
+    try:
+        return solve(plan, seed, options=opts)
+    except (PlanError, TypeError, ValueError):
+        raise
+    except Exception as e:  # a sample that fails says why; the run goes on
+        report = SampleReport(seed=seed, valid=False, converged=False,
+                              failures=[f"error: {type(e).__name__}: {e}"])
+        return Layout(plan, {}, seed, report)
+
+
+@dataclass
+class Generation:
+    """The outcome of :func:`generate`: accepted layouts and every sample's report.
+
+    Iterating, ``len()`` and indexing go over the accepted layouts.
+
+    Attributes
+    ----------
+    layouts : list of Layout
+        Valid, distinct layouts in sample order.
+    reports : list of SampleReport
+        One per attempted sample (accepted or not), in sample order.
+    seconds : float
+        Wall time of the whole run.
+    """
+
+    plan: Plan
+    seed: int
+    layouts: list[Layout]
+    reports: list[SampleReport]
+    seconds: float
+
+    def __iter__(self) -> Iterator[Layout]:
+        return iter(self.layouts)
+
+    def __len__(self) -> int:
+        return len(self.layouts)
+
+    def __getitem__(self, k: int) -> Layout:
+        return self.layouts[k]
+
+    @property
+    def attempted(self) -> int:
+        """Number of samples drawn."""
+        return len(self.reports)
+
+    @property
+    def rejected(self) -> list[SampleReport]:
+        """Reports of the samples that were not accepted."""
+        accepted = {lay.report.seed for lay in self.layouts}
+        return [r for r in self.reports if r.seed not in accepted]
+
+    def summary(self) -> dict[str, Any]:
+        """Counts, rates, timing and the most common failure reasons."""
+        reasons: dict[str, int] = {}
+        for r in self.rejected:
+            for f in r.failures or ["duplicate of an accepted layout"]:
+                key = f.split(":")[0]
+                reasons[key] = reasons.get(key, 0) + 1
+        valid = sum(r.valid for r in self.reports)
+        return {
+            "plan": self.plan.name,
+            "seed": self.seed,
+            "accepted": len(self.layouts),
+            "attempted": self.attempted,
+            "valid_fraction": valid / max(self.attempted, 1),
+            "mean_rule_satisfaction": float(np.mean([r.rule_satisfaction for r in self.reports]))
+            if self.reports else 0.0,
+            "seconds": self.seconds,
+            "layouts_per_second": len(self.layouts) / self.seconds if self.seconds else 0.0,
+            "median_steps": float(np.median([r.steps for r in self.reports])) if self.reports
+            else 0.0,
+            "failure_reasons": dict(sorted(reasons.items(), key=lambda kv: -kv[1])),
+        }
+
+
+def _distinct(layout: Layout, accepted: list[Layout], tol: float) -> bool:
+    if tol <= 0:
+        return True
+    ids = layout.ids()
+    a = np.array([[layout.poses[i].x, layout.poses[i].y] for i in ids])
+    for other in accepted:
+        if other.ids() != ids:
+            return True
+        b = np.array([[other.poses[i].x, other.poses[i].y] for i in ids])
+        if np.abs(a - b).max() < tol:
+            return False
+    return True
+
+
+def generate(
+    plan: Plan | str | dict[str, Any],
+    n: int,
+    *,
+    seed: int = 0,
+    executor: Executor | None = None,
+    max_attempts: int | None = None,
+    distinct_tol: float = 0.05,
+    progress: bool = False,
+    options: Options | None = None,
+    **kwargs: Any,
+) -> Generation:
+    """Realise one plan as ``n`` valid, distinct layouts.
+
+    Parameters
+    ----------
+    plan : Plan, path, JSON text, dict or bundled plan name
+    n : int
+        Layouts wanted.
+    seed : int
+        Seed of the run; sample ``k`` uses :func:`sample_seed(seed, k) <sample_seed>`.
+    executor : concurrent.futures.Executor, optional
+        Where samples run (``ProcessPoolExecutor``, a Dask or Ray executor);
+        in this process when omitted. The result is the same either way.
+    max_attempts : int, optional
+        Sample budget; defaults to ``max(4 n, n + 20)``. The run stops early
+        once ``n`` layouts are accepted.
+    distinct_tol : float
+        A valid sample whose every object lies within this many metres of an
+        accepted layout's is a duplicate and is not accepted.
+    progress : bool
+        Show a progress bar (tqdm).
+    options : Options, optional
+        Or its fields as keyword arguments (``relations=False``, ...).
+
+    Returns
+    -------
+    Generation
+        ``len(result) <= n``; ``result.rejected`` says why the others failed.
+    """
+    if n < 0:
+        raise ValueError(f"n must be >= 0, got {n}")
+    opts = _options(options, kwargs)
+    plan = load_plan(plan)
+    budget = max(4 * n, n + 20) if max_attempts is None else int(max_attempts)
+    if budget < 0:
+        raise ValueError(f"max_attempts must be >= 0, got {max_attempts}")
+    t0 = time.perf_counter()
+    accepted: list[Layout] = []
+    reports: list[SampleReport] = []
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=n, desc=f"{plan.name}", unit="layout")
+    next_index = 0
+    workers = getattr(executor, "_max_workers", 1) or 1
+    try:
+        while len(accepted) < n and next_index < budget:
+            need = n - len(accepted)
+            wave = need if executor is None else max(need, 2 * workers)
+            wave = min(budget - next_index, max(1, int(np.ceil(wave * 1.2)) if executor else 1))
+            seeds = [sample_seed(seed, next_index + k) for k in range(wave)]
+            next_index += wave
+            if executor is None:
+                results: Iterator[Layout] | list[Layout] = (
+                    _sample(plan, s, opts) for s in seeds)
+            else:
+                futures = [executor.submit(_sample, plan, s, opts) for s in seeds]
+                results = [f.result() for f in futures]
+            for lay in results:
+                reports.append(lay.report)
+                if lay.report.valid and len(accepted) < n:
+                    if _distinct(lay, accepted, distinct_tol):
+                        accepted.append(lay)
+                        if bar is not None:
+                            bar.update(1)
+                    else:
+                        lay.report.failures.append("duplicate: within distinct_tol of an "
+                                                   "accepted layout")
+    finally:
+        if bar is not None:
+            bar.close()
+    return Generation(plan, int(seed), accepted, reports, time.perf_counter() - t0)
+

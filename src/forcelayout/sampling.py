@@ -20,12 +20,11 @@ from typing import Any
 import numpy as np
 
 from forcelayout.errors import PlanError
-from forcelayout.forces import ForceModel
-from forcelayout.layout import Layout, Pose, SampleReport
+from forcelayout.layout import Layout, SampleReport
 from forcelayout.plan import Plan, load_plan
-from forcelayout.solver import SolverConfig, simulate
+from forcelayout.solver import SolverConfig
 
-__all__ = ["Options", "Generation", "solve", "generate", "initial_poses", "sample_seed"]
+__all__ = ["Options", "Generation", "solve", "generate", "sample_seed"]
 
 
 @dataclass(frozen=True)
@@ -63,45 +62,6 @@ def sample_seed(seed: int, index: int) -> int:
     return int(ss.generate_state(1, dtype=np.uint64)[0] >> np.uint64(1))
 
 
-def initial_poses(
-    model: ForceModel, rng: np.random.Generator, *, tries: int = 40
-) -> tuple[np.ndarray, np.ndarray]:
-    """Random start poses inside the room, avoiding overlaps where possible.
-
-    Objects are placed largest first at uniformly random positions and
-    headings; each gets at most ``tries`` draws, keeping the draw with the
-    least overlap (so this never loops forever on a crowded plan).
-    """
-    room = model.room
-    n = model.n
-    pos = np.zeros((n, 2))
-    yaw = rng.uniform(-np.pi, np.pi, n)
-    lo, hi = room.bounds[:2], room.bounds[2:]
-    order = np.argsort(-(model.size[:, 0] * model.size[:, 1]), kind="stable")
-    placed: list[int] = []
-    for r in order:
-        best, best_score = None, -np.inf
-        for _ in range(tries):
-            p = rng.uniform(lo, hi)
-            st = model.state(np.vstack([pos, p[None]]), np.append(yaw, yaw[r]))
-            st.size = np.vstack([model.size, model.size[r:r + 1]])
-            c = st.corners[-1]
-            if not room.contains(np.vstack([c, p[None]])).all():
-                continue
-            d, _ = room.wall_distance(c)
-            score = min(float(d.min()), 0.3)
-            if placed:
-                sep = st.separation(np.full(len(placed), n), np.array(placed))
-                score = min(score, float(sep.min()))
-            if score > best_score:
-                best, best_score = p, score
-            if score >= 0.05:
-                break
-        pos[r] = best if best is not None else room.centroid
-        placed.append(int(r))
-    return pos, yaw
-
-
 def _plan_for(plan: Plan, opts: Options) -> Plan:
     if opts.decor:
         return plan
@@ -135,18 +95,12 @@ def solve(
     opts = _options(options, kwargs)
     plan = _plan_for(load_plan(plan), opts)
     t0 = time.perf_counter()
-    rng = np.random.default_rng(seed)
-    model = ForceModel(plan, relations=opts.relations)
-    pos0, yaw0 = initial_poses(model, rng)
-    res = simulate(model, pos0, yaw0, opts.solver)
-    poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
-             for oid, p, y in zip(model.ids, res.pos, res.yaw, strict=True)}
-    placed = set(poses)
-    missing = [f"{o.id}: placed by {plan.surface_of(o.id)!r}, which this solver stage does not "
-               "place yet" for o in plan.objects if o.id not in placed]
-    report = SampleReport(seed=int(seed), steps=res.steps, converged=res.converged,
-                          missing=missing)
-    layout = Layout(plan, poses, seed, report)
+    from forcelayout.pipeline import realise
+
+    placed = realise(plan, np.random.default_rng(seed), opts)
+    report = SampleReport(seed=int(seed), steps=placed.steps, converged=placed.converged,
+                          missing=placed.missing, stages=placed.stages)
+    layout = Layout(plan, placed.poses, seed, report)
     _judge(layout, opts)
     report.seconds = time.perf_counter() - t0
     return layout

@@ -1,0 +1,153 @@
+"""The ``forcelayout`` command line.
+
+Sub-commands: ``generate``, ``rules``, ``validate``, ``render``; optional
+subpackages add their own (``plan`` from ``forcelayout.llm``) through a
+``register(subparsers)`` function in their ``cli`` module. A missing extra
+turns into a command that says which extra to install.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import json
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+__all__ = ["main", "build_parser"]
+
+#: Optional subpackages that add sub-commands: (module, extra, commands it adds).
+OPTIONAL_COMMANDS = [("forcelayout.llm.cli", "llm", ["plan"])]
+
+
+def _cmd_generate(args: argparse.Namespace) -> int:
+    from forcelayout.generate_cmd import run_generate
+
+    return run_generate(args)
+
+
+def _cmd_rules(args: argparse.Namespace) -> int:
+    from forcelayout.rules import describe_rules
+
+    infos = describe_rules(args.pattern)
+    if args.json:
+        print(json.dumps([{"name": i.name, "kind": i.kind, "summary": i.summary,
+                           "weight": i.weight, "params": i.params} for i in infos],
+                         indent=2, default=str))
+        return 0
+    width = max((len(i.name) for i in infos), default=4)
+    for i in infos:
+        params = ", ".join(f"{k}={v['default']}" for k, v in i.params.items())
+        print(f"{i.name:<{width}}  {i.kind:<7}  {i.summary}" + (f"  [{params}]" if params else ""))
+    return 0
+
+
+def _cmd_validate(args: argparse.Namespace) -> int:
+    from forcelayout.layout import Layout
+    from forcelayout.plan import load_plan
+    from forcelayout.validate import check_layout
+
+    plan = load_plan(args.plan)
+    if not args.layouts:
+        print(f"plan {plan.name!r} is valid: {len(plan.objects)} objects, {len(plan.rules)} rules")
+        return 0
+    bad = 0
+    for path in args.layouts:
+        lay = Layout.load(path, plan)
+        rep = check_layout(lay)
+        sat = lay.rule_satisfaction
+        status = "ok" if rep.ok else "FAIL"
+        print(f"{path}: {status}  rules met {sat:.0%}")
+        for f in rep.failures:
+            print(f"    {f}")
+        bad += not rep.ok
+    return 1 if bad else 0
+
+
+def _cmd_render(args: argparse.Namespace) -> int:
+    from forcelayout.layout import Layout
+    from forcelayout.plan import load_plan
+
+    plan = load_plan(args.plan)
+    for path in args.layouts:
+        lay = Layout.load(path, plan)
+        out = Path(path).with_suffix(f".{args.format}")
+        lay.picture(out)
+        print(out)
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``forcelayout`` command."""
+    from forcelayout import __version__
+
+    p = argparse.ArgumentParser(prog="forcelayout", description=(
+        "One declarative scene plan -> many physically valid room layouts."))
+    p.add_argument("--version", action="version", version=f"forcelayout {__version__}")
+    sub = p.add_subparsers(dest="command", required=True)
+
+    g = sub.add_parser("generate", help="generate layouts of a plan (JSON + PNG per layout)")
+    g.add_argument("plan", nargs="?", help="plan JSON file or a bundled plan name "
+                   "(bedroom, living_room, home_office, l_shaped_studio)")
+    g.add_argument("-n", type=int, default=10, help="layouts wanted (default 10)")
+    g.add_argument("--out", type=Path, required=True, help="output folder")
+    g.add_argument("--seed", type=int, default=0, help="seed of the run (default 0)")
+    g.add_argument("--workers", type=int, default=1, help="processes (default 1)")
+    g.add_argument("--max-attempts", type=int, default=None, help="sample budget")
+    g.add_argument("--format", choices=["png", "svg", "none"], default="png",
+                   help="picture per layout (default png)")
+    g.add_argument("--no-relations", action="store_true", help="ablation: no relation forces")
+    g.add_argument("--no-decor", action="store_true", help="ablation: drop decor objects")
+    g.add_argument("--quiet", action="store_true", help="no progress bar")
+    g.set_defaults(func=_cmd_generate)
+
+    r = sub.add_parser("rules", help="list the rule vocabulary")
+    r.add_argument("pattern", nargs="?", default="*", help="shell pattern, e.g. 'near*'")
+    r.add_argument("--json", action="store_true", help="print JSON")
+    r.set_defaults(func=_cmd_rules)
+
+    v = sub.add_parser("validate", help="validate a plan, and layouts of it if given")
+    v.add_argument("plan")
+    v.add_argument("layouts", nargs="*", type=Path)
+    v.set_defaults(func=_cmd_validate)
+
+    d = sub.add_parser("render", help="draw layout JSON files top-down")
+    d.add_argument("plan")
+    d.add_argument("layouts", nargs="+", type=Path)
+    d.add_argument("--format", choices=["png", "svg"], default="png")
+    d.set_defaults(func=_cmd_render)
+
+    for module, extra, commands in OPTIONAL_COMMANDS:
+        try:
+            mod = importlib.import_module(module)
+        except ImportError:
+            for name in commands:
+                m = sub.add_parser(name, help=f"(needs: pip install \"forcelayout[{extra}]\")")
+                m.add_argument("rest", nargs=argparse.REMAINDER)
+                m.set_defaults(func=lambda a, e=extra: _missing(e))
+            continue
+        mod.register(sub)
+    return p
+
+
+def _missing(extra: str) -> int:
+    print(f"this command needs the optional extra: pip install \"forcelayout[{extra}]\"",
+          file=sys.stderr)
+    return 2
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status."""
+    from forcelayout.errors import PlanError, UnknownRuleError
+
+    args = build_parser().parse_args(argv)
+    try:
+        return int(args.func(args) or 0)
+    except (PlanError, UnknownRuleError, FileNotFoundError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,7 +1,47 @@
-"""forcelayout: one declarative scene plan, many physically valid room layouts."""
+"""forcelayout: one declarative scene plan, many physically valid room layouts.
 
-from forcelayout.errors import PlanError, Problem, UnknownRuleError
-from forcelayout.plan import Plan, load_plan
+A plan (room + objects + placement rules) is realised by an annealed,
+force-directed 2D physics simulation (Box2D) into many distinct layouts that
+share the plan's semantics and differ in geometry.
 
-__all__ = ["Plan", "load_plan", "PlanError", "Problem", "UnknownRuleError"]
+Examples
+--------
+>>> import forcelayout as fl
+>>> plan = fl.examples.load_example("bedroom")
+>>> result = fl.generate(plan, 2, seed=0)          # doctest: +SKIP
+>>> result[0].picture("bedroom.png")               # doctest: +SKIP
+"""
+
+from forcelayout import examples, rules
+from forcelayout.errors import MissingExtraError, PlanError, Problem, UnknownRuleError
+from forcelayout.layout import Layout, Pose, RuleResult, SampleReport
+from forcelayout.plan import Area, Door, Plan, Room, RuleSpec, SceneObject, Window, load_plan
+from forcelayout.sampling import Generation, Options, generate, solve
+from forcelayout.solver import SolverConfig
+
+__all__ = [
+    "Plan",
+    "Room",
+    "Door",
+    "Window",
+    "SceneObject",
+    "RuleSpec",
+    "Area",
+    "load_plan",
+    "Layout",
+    "Pose",
+    "RuleResult",
+    "SampleReport",
+    "generate",
+    "solve",
+    "Generation",
+    "Options",
+    "SolverConfig",
+    "rules",
+    "examples",
+    "PlanError",
+    "Problem",
+    "UnknownRuleError",
+    "MissingExtraError",
+]
 __version__ = "0.1.0"

@@ -1,0 +1,188 @@
+"""The plan schema: loading, JSON round trip, JSON Schema and errors naming fields."""
+
+import json
+import math
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from forcelayout import Plan, PlanError, load_plan
+from forcelayout.examples import list_plans, load_example
+
+DESIGN_PLAN = {
+    "name": "bedroom",
+    "room": {"polygon": [[0, 0], [4, 0], [4, 3.5], [0, 3.5]], "height": 2.7,
+             "doors": [{"wall": 0, "offset": 1.0, "width": 0.9}],
+             "windows": [{"wall": 2, "offset": 2.0, "width": 1.2}]},
+    "objects": [{"id": "bed", "category": "bed", "size": [1.6, 2.0, 0.5], "area": "sleeping",
+                 "primary": True},
+                {"id": "nightstand_1", "category": "nightstand", "size": [0.45, 0.4, 0.5]}],
+    "rules": [{"rule": "at_wall", "object": "bed"},
+              {"rule": "next_to", "object": "nightstand_1", "target": "bed"}],
+}
+
+
+def plan_with(**changes):
+    data = json.loads(json.dumps(DESIGN_PLAN))
+    for path, value in changes.items():
+        node = data
+        keys = path.split("__")
+        for k in keys[:-1]:
+            node = node[int(k)] if k.isdigit() else node[k]
+        last = keys[-1]
+        if last.isdigit():
+            node[int(last)] = value
+        else:
+            node[last] = value
+    return data
+
+
+def problems(data):
+    with pytest.raises(PlanError) as e:
+        Plan.from_dict(data)
+    return e.value.problems
+
+
+def test_design_json_loads_unchanged():
+    plan = Plan.from_json(json.dumps(DESIGN_PLAN))
+    assert plan.object("bed").size == (1.6, 2.0, 0.5)
+    assert plan.rules[1].target == "bed"
+    assert plan.room.doors[0].width == 0.9
+
+
+def test_json_round_trip():
+    plan = Plan.from_dict(DESIGN_PLAN)
+    again = Plan.from_json(plan.to_json())
+    assert again == plan
+
+
+def test_json_schema_is_usable_for_structured_output():
+    schema = Plan.json_schema()
+    assert schema["type"] == "object"
+    assert {"room", "objects"} <= set(schema["required"])
+    assert "SceneObject" in json.dumps(schema)
+
+
+@pytest.mark.parametrize("name", list_plans())
+def test_bundled_plans_load(name):
+    plan = load_example(name)
+    assert 8 <= len(plan.objects) <= 16
+    assert load_plan(name) == plan
+
+
+def test_unknown_rule_suggests_close_match():
+    data = plan_with(rules__0__rule="at_wal")
+    (p,) = problems(data)
+    assert p.path == "rules[0] (at_wal)"
+    assert "Did you mean 'at_wall'" in p.message
+
+
+def test_unknown_object_suggests_close_match():
+    data = plan_with(rules__1__target="bedd")
+    (p,) = problems(data)
+    assert p.path.endswith(".target")
+    assert "unknown object 'bedd'" in p.message and "'bed'" in p.message
+
+
+def test_all_problems_reported_at_once():
+    data = plan_with(rules__0__rule="nope", rules__1__object="ghost")
+    data["room"]["doors"][0]["wall"] = 9
+    ps = problems(data)
+    assert len(ps) == 3
+    assert {p.path.split(".")[0].split(" ")[0] for p in ps} >= {"room", "rules[0]", "rules[1]"}
+
+
+def test_object_larger_than_room():
+    data = plan_with(objects__0__size=[4.5, 0.5, 0.5])
+    (p,) = problems(data)
+    assert p.path == "objects[0].size" and "larger than the room" in p.message
+
+
+def test_non_simple_polygon():
+    data = plan_with(room__polygon=[[0, 0], [4, 3.5], [4, 0], [0, 3.5]])
+    (p,) = problems(data)
+    assert p.path == "room.polygon" and "simple" in p.message
+
+
+@pytest.mark.parametrize("bad", [float("nan"), -1.0, 0.0, float("inf")])
+def test_bad_sizes_name_the_field(bad):
+    data = plan_with(objects__1__size=[bad, 0.4, 0.5])
+    ps = problems(data)
+    assert any(p.path.startswith("objects[1].size") for p in ps)
+
+
+def test_door_wider_than_wall():
+    data = plan_with(room__doors=[{"wall": 1, "offset": 1.0, "width": 4.0}])
+    (p,) = problems(data)
+    assert p.path == "room.doors[0].width"
+
+
+def test_opening_off_the_wall():
+    data = plan_with(room__doors=[{"wall": 1, "offset": 3.4, "width": 0.9}])
+    (p,) = problems(data)
+    assert p.path == "room.doors[0].offset"
+
+
+def test_on_top_cycle():
+    data = plan_with()
+    data["objects"].append({"id": "lamp", "category": "lamp", "size": [0.2, 0.2, 0.3]})
+    data["rules"] += [{"rule": "on_top", "object": "lamp", "target": "nightstand_1"},
+                      {"rule": "on_top", "object": "nightstand_1", "target": "lamp"}]
+    ps = problems(data)
+    assert any("cycle" in p.message for p in ps)
+
+
+def test_child_larger_than_parent_top():
+    data = plan_with()
+    data["rules"].append({"rule": "on_top", "object": "bed", "target": "nightstand_1"})
+    ps = problems(data)
+    assert any("does not fit on top" in p.message for p in ps)
+
+
+def test_binary_rule_needs_target():
+    data = plan_with()
+    data["rules"][1].pop("target")
+    (p,) = problems(data)
+    assert p.path.endswith(".target") and "give a target" in p.message
+
+
+def test_bad_params_name_the_param():
+    data = plan_with()
+    data["rules"][1]["params"] = {"distanse": 0.2}
+    (p,) = problems(data)
+    assert "params.distanse" in p.path
+
+
+def test_unknown_field_is_rejected():
+    data = plan_with()
+    data["objects"][0]["colour"] = "red"
+    (p,) = problems(data)
+    assert p.path == "objects[0].colour"
+
+
+def test_too_much_furniture_fails_fast():
+    data = plan_with()
+    data["objects"] += [{"id": f"box_{k}", "category": "box", "size": [1.0, 1.0, 1.0]}
+                        for k in range(12)]
+    ps = problems(data)
+    assert any(p.path == "objects" and "walk" in p.message for p in ps)
+
+
+def test_l_shaped_room_loads():
+    data = plan_with(room__polygon=[[0, 0], [6, 0], [6, 3], [3, 3], [3, 5], [0, 5]])
+    plan = Plan.from_dict(data)
+    assert math.isclose(plan.room.shape.area, 24.0)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.recursive(st.none() | st.booleans() | st.floats() | st.text(max_size=5),
+                    lambda c: st.lists(c, max_size=3) | st.dictionaries(st.text(max_size=5), c,
+                                                                        max_size=3),
+                    max_leaves=10))
+def test_random_json_never_crashes(data):
+    """Any JSON value either loads or raises PlanError, nothing else."""
+    try:
+        Plan.from_dict(data if isinstance(data, dict) else {"objects": data})
+    except PlanError as e:
+        assert e.problems

@@ -267,6 +267,10 @@ class RoomGeometry:
         sign = 1.0 if self.signed_area > 0 else -1.0
         # inward normal: left of the direction of travel for a CCW polygon
         self.normal = sign * np.stack([-self.tangent[:, 1], self.tangent[:, 0]], axis=1)
+        #: ``a · normal`` and ``a · tangent`` per wall: ``p · normal - normal_offset`` is
+        #: the distance of ``p`` from wall i's line (positive inside).
+        self.normal_offset = (self.a * self.normal).sum(1)
+        self.tangent_offset = (self.a * self.tangent).sum(1)
         self.doors = self._openings(doors or [])
         self.windows = self._openings(windows or [])
 

@@ -65,11 +65,11 @@ class SolverConfig:
     dt: float = 1.0 / 30.0
     mobility: float = 1.0
     angular_mobility: float = 4.0
-    max_speed: float = 2.0
+    max_speed: float = 1.0
     max_turn: float = 3.0
     min_steps: int = 40
     max_steps: int = 400
-    tol_pos: float = 5e-4
+    tol_pos: float = 1e-3
     tol_yaw: float = 2e-3
     patience: int = 8
     velocity_iterations: int = 6
@@ -170,29 +170,38 @@ def simulate(
         b.CreatePolygonFixture(box=(hw, hd), density=1.0, friction=0.0, restitution=0.0)
         bodies.append(b)
     moving = [b for b, f in zip(bodies, fixed, strict=True) if not f]
-    mv = ~fixed
+    mv = np.flatnonzero(~fixed)
+    all_moving = len(mv) == n
     quiet = 0
     steps = 0
     converged = False
+    k, dt, mob, amob = cfg.k, cfg.dt, cfg.mobility, cfg.angular_mobility
+    vmax, wmax = cfg.max_speed, cfg.max_turn
+    vel_it, pos_it = cfg.velocity_iterations, cfg.position_iterations
+    state = model.state(pos, yaw)
     for t in range(cfg.max_steps):
-        state = model.state(pos, yaw)
-        f, tau = model.net(state, float(temperature(t, cfg.k)))
-        v = f * cfg.mobility
-        speed = np.linalg.norm(v, axis=1, keepdims=True)
-        v *= np.minimum(1.0, cfg.max_speed / np.maximum(speed, 1e-12))
-        om = np.clip(tau * cfg.angular_mobility, -cfg.max_turn, cfg.max_turn)
-        for b, (vx, vy), w in zip(moving, v[mv].tolist(), om[mv].tolist(), strict=True):
-            b.linearVelocity = (vx, vy)
-            b.angularVelocity = w
-        world.Step(cfg.dt, cfg.velocity_iterations, cfg.position_iterations)
-        new = np.array([(b.position[0], b.position[1], b.angle) for b in bodies])
-        dpos = np.abs(new[:, :2] - pos).max() if n else 0.0
-        dyaw = np.abs(new[:, 2] - yaw).max() if n else 0.0
+        f, tau = model.net(state, 1.0 / (1.0 + k * t))
+        if not all_moving:
+            f, tau = f[mv], tau[mv]
+        v = f * mob
+        speed2 = (v * v).sum(1)
+        fast = speed2 > vmax * vmax
+        if fast.any():
+            v[fast] *= (vmax / np.sqrt(speed2[fast]))[:, None]
+        om = np.clip(tau * amob, -wmax, wmax)
+        for body, vel, w in zip(moving, v.tolist(), om.tolist(), strict=True):
+            body.linearVelocity = vel
+            body.angularVelocity = w
+        world.Step(dt, vel_it, pos_it)
+        new = np.array([(p.x, p.y, bd.angle) for bd in bodies for p in (bd.position,)])
+        dpos = np.abs(new[:, :2] - pos).max()
+        dyaw = np.abs(new[:, 2] - yaw).max()
         pos, yaw = new[:, :2], new[:, 2]
+        state = model.state(pos, yaw)
         steps = t + 1
         if callback is not None:
             callback(steps, pos, yaw)
-        if not np.isfinite(new).all():
+        if not (np.isfinite(dpos) and np.isfinite(dyaw)):
             break
         quiet = quiet + 1 if (dpos < cfg.tol_pos and dyaw < cfg.tol_yaw) else 0
         if steps >= cfg.min_steps and quiet >= cfg.patience:

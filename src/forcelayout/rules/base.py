@@ -73,6 +73,14 @@ class State:
         return self.size[:, :2] * 0.5
 
     @property
+    def radius(self) -> np.ndarray:
+        """Radius of each footprint's bounding circle, shape (N,), metres."""
+        r = self._cache.get("radius")
+        if r is None:
+            r = self._cache["radius"] = np.hypot(self.size[:, 0], self.size[:, 1]) * 0.5
+        return r
+
+    @property
     def front(self) -> np.ndarray:
         """Unit front directions (local +y in the world), shape (N, 2)."""
         f = self._cache.get("front")

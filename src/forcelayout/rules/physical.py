@@ -33,30 +33,39 @@ class PhysicalWeights:
         strongest term, per the paper).
     repulsion_range : float
         Clearance in metres below which repulsion acts.
+    repulsion_floor : float
+        Clearance in metres below which the repulsion stops growing. Box2D
+        contacts keep bodies apart; the floor keeps the explicit step stable.
     boundary : float
         Strength of the inverse-square wall potential, in N·m².
     boundary_range : float
         Distance from a wall in metres below which the potential acts.
+    boundary_floor : float
+        Distance in metres below which the wall potential stops growing.
     alignment : float
         Strength of the torque settling objects at cardinal angles.
     door : float
         Strength of the push out of door swing squares.
     """
 
-    repulsion: float = 6.0
+    repulsion: float = 1.5
     repulsion_range: float = 0.12
+    repulsion_floor: float = 0.04
     boundary: float = 2e-5
     boundary_range: float = 0.08
+    boundary_floor: float = 0.015
     alignment: float = 0.6
-    door: float = 6.0
+    door: float = 2.0
 
     def scaled(self, overrides: dict[str, float]) -> PhysicalWeights:
         """A copy with ``{"repulsion": x, "boundary": y, "alignment": z}`` multiplied in."""
         return PhysicalWeights(
             repulsion=self.repulsion * overrides.get("repulsion", 1.0),
             repulsion_range=self.repulsion_range,
+            repulsion_floor=self.repulsion_floor,
             boundary=self.boundary * overrides.get("boundary", 1.0),
             boundary_range=self.boundary_range,
+            boundary_floor=self.boundary_floor,
             alignment=self.alignment * overrides.get("alignment", 1.0),
             door=self.door * overrides.get("door", 1.0),
         )
@@ -80,16 +89,22 @@ def repulsion(
     f = np.zeros((n, 2))
     if pi.size == 0:
         return f, np.zeros(n)
+    # broad phase on bounding circles, then separating axes on the near pairs
+    pos = state.pos
+    d = pos[pi] - pos[pj]
+    dist = np.sqrt((d * d).sum(1))
+    rad = state.radius
+    near = dist < rad[pi] + rad[pj] + w.repulsion_range
+    if not near.any():
+        return f, np.zeros(n)
+    pi, pj, d, dist = pi[near], pj[near], d[near], dist[near]
     sep = state.separation(pi, pj)
     active = sep < w.repulsion_range
     if not active.any():
         return f, np.zeros(n)
-    pi, pj, sep = pi[active], pj[active], sep[active]
-    d = state.pos[pi] - state.pos[pj]
-    dist = np.linalg.norm(d, axis=1, keepdims=True)
-    u = np.where(dist > 1e-9, d / np.maximum(dist, 1e-9), np.array([[1.0, 0.0]]))
-    mag = w.repulsion * np.log(w.repulsion_range / np.maximum(sep, _EPS))
-    fi = u * mag[:, None]
+    pi, pj, d, dist, sep = pi[active], pj[active], d[active], dist[active], sep[active]
+    u = d / np.maximum(dist, 1e-9)[:, None]
+    fi = u * (w.repulsion * np.log(w.repulsion_range / np.maximum(sep, w.repulsion_floor)))[:, None]
     np.add.at(f, pi, fi)
     np.add.at(f, pj, -fi)
     return f, np.zeros(n)
@@ -98,24 +113,25 @@ def repulsion(
 def boundary(state: State, w: PhysicalWeights) -> tuple[np.ndarray, np.ndarray]:
     """Inverse-square potential from the walls acting on footprint corners.
 
-    Each corner within ``w.boundary_range`` of a wall is pushed along the
-    wall's inward normal by ``w.boundary * (1/d² - 1/range²)``; corners
-    outside the room are pushed towards the room's centroid. Forces at the
-    corners also give torques, which square objects up against walls.
+    Each corner within ``w.boundary_range`` of a wall (measured along the
+    wall's inward normal, where the corner lies beside the wall) is pushed
+    along that normal by ``w.boundary * (1/d² - 1/range²)``. Forces at the
+    corners also give torques, which square objects up against walls. The
+    walls themselves are solid in the simulation; this term keeps objects
+    from pressing into them.
     """
     room = state.room
-    c = state.corners  # (N, 4, 2)
-    d, _ = room.wall_distance(c)  # (N, 4, W)
-    near = d < w.boundary_range
-    mag = np.where(near, w.boundary * (1.0 / np.maximum(d, _EPS) ** 2
-                                       - 1.0 / w.boundary_range**2), 0.0)
-    fc = np.einsum("ncw,wk->nck", mag, room.normal)  # (N, 4, 2)
-    outside = ~room.contains(c)
-    if outside.any():
-        to_c = room.centroid - c
-        to_c /= np.maximum(np.linalg.norm(to_c, axis=-1, keepdims=True), 1e-9)
-        fc = np.where(outside[..., None], to_c * w.repulsion * 2.0, fc)
-    r = c - state.pos[:, None, :]
+    n = state.n
+    c = state.corners.reshape(-1, 2)  # (4N, 2)
+    s = c @ room.normal.T - room.normal_offset  # distance from each wall's line, inward +
+    t = c @ room.tangent.T - room.tangent_offset  # position along each wall
+    near = (s < w.boundary_range) & (s > -0.05) & (t >= 0.0) & (t <= room.length)
+    if not near.any():
+        return np.zeros((n, 2)), np.zeros(n)
+    inv = 1.0 / np.maximum(s, w.boundary_floor)
+    mag = np.where(near, w.boundary * (inv * inv - 1.0 / w.boundary_range**2), 0.0)
+    fc = (mag @ room.normal).reshape(n, 4, 2)
+    r = state.corners - state.pos[:, None, :]
     return fc.sum(axis=1), _torque(r, fc).sum(axis=1)
 
 
@@ -130,26 +146,26 @@ def door_clearance(state: State, w: PhysicalWeights) -> tuple[np.ndarray, np.nda
     The push runs along the wall, away from the door's centre, so objects
     standing at that wall slide aside rather than into the room.
     """
-    doors = state.room.doors
+    room = state.room
     n = state.n
     f = np.zeros((n, 2))
-    if len(doors) == 0 or n == 0:
+    if len(room.doors) == 0 or n == 0:
         return f, np.zeros(n)
-    centre, dr, df, dh = state.room.door_squares
-    sep = geo.obb_separation(
-        centre[None] - state.pos[:, None], state.right[:, None], state.front[:, None],
-        state.half[:, None], dr[None], df[None], dh[None])  # (N, D)
+    centre, dr, df, dh = room.door_squares
     margin = 0.05
-    active = sep < margin
-    if not active.any():
-        return f, np.zeros(n)
     rel = state.pos[:, None, :] - centre[None, :, :]  # (N, D, 2)
-    along = np.einsum("ndk,dk->nd", rel, doors.tangent)
-    sign = np.where(along >= 0, 1.0, -1.0)
+    reach = state.radius[:, None] + dh[None, :, 0] * np.sqrt(2.0) + margin
+    close = (rel * rel).sum(-1) < reach * reach
+    if not close.any():
+        return f, np.zeros(n)
+    oi, di = np.nonzero(close)
+    sep = geo.obb_separation(-rel[oi, di], state.right[oi], state.front[oi], state.half[oi],
+                             dr[di], df[di], dh[di])
     depth = np.clip(margin - sep, 0.0, 1.0)
-    push = (sign * depth * w.door * 10.0)[..., None] * doors.tangent[None]
-    push += (depth * w.door * 2.0)[..., None] * doors.normal[None]  # and off the door's wall
-    f = np.where(active[..., None], push, 0.0).sum(axis=1)
+    along = (rel[oi, di] * dr[di]).sum(-1)
+    sign = np.where(along >= 0, 1.0, -1.0)
+    push = dr[di] * (sign * depth * w.door * 10.0)[:, None] + df[di] * (depth * w.door * 2.0)[:, None]
+    np.add.at(f, oi, push)
     return f, np.zeros(n)
 
 

@@ -97,6 +97,18 @@ class State:
             r = self._cache["right"] = np.stack([f[:, 1], -f[:, 0]], axis=1)
         return r
 
+    @property
+    def wall_distance(self) -> np.ndarray:
+        """Distance from each footprint centre to each wall segment, shape (N, W), metres."""
+        d = self._cache.get("wall_distance")
+        if d is None:
+            room = self.room
+            s = self.pos @ room.normal.T - room.normal_offset  # along the inward normal
+            t = self.pos @ room.tangent.T - room.tangent_offset  # along the wall
+            beyond = np.maximum(np.maximum(-t, t - room.length), 0.0)
+            d = self._cache["wall_distance"] = np.sqrt(s * s + beyond * beyond)
+        return d
+
     def separation(self, i: np.ndarray, j: np.ndarray) -> np.ndarray:
         """Signed separating-axis clearance between footprints ``i`` and ``j``, metres.
 

@@ -1,0 +1,61 @@
+"""The command line, run as a user would."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from forcelayout.cli import main
+
+
+def test_rules_lists_the_vocabulary(capsys):
+    assert main(["rules"]) == 0
+    out = capsys.readouterr().out
+    for name in ("at_wall", "next_to", "facing", "on_top"):
+        assert name in out
+
+
+def test_rules_json_and_pattern(capsys):
+    assert main(["rules", "near*", "--json"]) == 0
+    names = {r["name"] for r in json.loads(capsys.readouterr().out)}
+    assert "near" in names and "at_wall" not in names
+
+
+def test_generate_writes_json_png_and_summary(tmp_path):
+    out = tmp_path / "out"
+    assert main(["generate", "bedroom", "-n", "2", "--out", str(out), "--quiet"]) == 0
+    layouts = sorted(out.glob("bedroom_*.json"))
+    assert len(layouts) == 2
+    assert len(list(out.glob("bedroom_*.png"))) == 2
+    data = json.loads(layouts[0].read_text())
+    assert data["plan"] == "bedroom" and "bed" in data["objects"]
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["accepted"] == 2 and summary["attempted"] >= 2
+    # the written layouts validate and render again from the command line
+    assert main(["validate", str(out / "plan.json"), *map(str, layouts)]) == 0
+    assert main(["render", str(out / "plan.json"), str(layouts[0]), "--format", "svg"]) == 0
+    assert layouts[0].with_suffix(".svg").exists()
+
+
+def test_bad_plan_gives_a_clear_error(tmp_path, capsys):
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]]},
+                               "objects": [{"id": "a", "category": "box",
+                                            "size": [0.5, 0.5, 0.5]}],
+                               "rules": [{"rule": "at_wal", "object": "a"}]}))
+    assert main(["generate", str(bad), "-n", "1", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "rules[0] (at_wal)" in err and "at_wall" in err
+
+
+def test_missing_plan_file(tmp_path, capsys):
+    assert main(["validate", str(tmp_path / "nope.json")]) == 2
+    assert "no plan file" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("args", [["--version"], ["rules", "--help"]])
+def test_entry_point_is_installed(args):
+    proc = subprocess.run([sys.executable, "-m", "forcelayout.cli", *args], capture_output=True,
+                          text=True)
+    assert proc.returncode == 0

@@ -29,6 +29,7 @@ __all__ = [
     "box_gap",
     "box_separation",
     "obb_separation",
+    "separation_matrix",
     "point_segment_distance",
     "wrap_angle",
     "footprint_polygon",
@@ -138,6 +139,38 @@ def obb_separation(
     g3 = np.abs((d * rb).sum(-1)) - hbx - (hax * c + hay * s)
     g4 = np.abs((d * fb).sum(-1)) - hby - (hax * s + hay * c)
     return np.maximum(np.maximum(g1, g2), np.maximum(g3, g4))
+
+
+def separation_matrix(
+    pos: np.ndarray, right: np.ndarray, front: np.ndarray, half: np.ndarray
+) -> np.ndarray:
+    """Separating-axis clearance between every pair of oriented rectangles.
+
+    The all-pairs form of :func:`obb_separation`, built from a few (M, M)
+    matrix products instead of per-pair gathers.
+
+    Parameters
+    ----------
+    pos, right, front, half : ndarray, shape (M, 2)
+        Centres, unit right and front axes, half extents.
+
+    Returns
+    -------
+    ndarray, shape (M, M)
+        Symmetric signed clearance in metres; the diagonal is meaningless.
+    """
+    pr = pos @ right.T  # [j, i] = pos_j . r_i
+    pf = pos @ front.T
+    dr = np.abs(pr - np.diagonal(pr)[None, :])  # [j, i] = |(pos_j - pos_i) . r_i|
+    df = np.abs(pf - np.diagonal(pf)[None, :])
+    c = np.abs(right @ right.T)
+    s = np.abs(right @ front.T)  # |sin| of the relative angle, symmetric for rectangles
+    hx, hy = half[:, 0], half[:, 1]
+    # g1[j, i]: gap along r_i; g2[j, i]: gap along f_i
+    g1 = dr - hx[None, :] - (hx[:, None] * c + hy[:, None] * s)
+    g2 = df - hy[None, :] - (hx[:, None] * s + hy[:, None] * c)
+    g = np.maximum(g1, g2)
+    return np.maximum(g, g.T)
 
 
 def box_separation(ca: np.ndarray, cb: np.ndarray) -> np.ndarray:

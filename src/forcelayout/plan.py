@@ -27,11 +27,10 @@ Examples
 from __future__ import annotations
 
 import difflib
-import json
 import math
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
 import numpy as np
 import shapely
@@ -375,17 +374,20 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
     for k, r in enumerate(plan.rules):
         path = f"rules[{k}] ({r.rule})"
         if not registry.is_registered(r.rule):
-            yield Problem(path, f"unknown rule {r.rule!r}.{_did_you_mean(r.rule, registry.available_rules())}"
-                          " Run `forcelayout rules` for the vocabulary or register a plugin")
+            hint = _did_you_mean(r.rule, registry.available_rules())
+            yield Problem(path, f"unknown rule {r.rule!r}.{hint} Run `forcelayout rules` for the "
+                          "vocabulary or register a plugin")
             continue
         rule = registry.get_rule(r.rule)
         if r.object not in ids:
-            yield Problem(f"{path}.object", f"unknown object {r.object!r}.{_did_you_mean(r.object, ids)}")
+            yield Problem(f"{path}.object",
+                          f"unknown object {r.object!r}.{_did_you_mean(r.object, ids)}")
         needs_target = rule.kind == "binary" or r.rule in {"on_top", "above"}
         if needs_target and r.target is None:
             yield Problem(f"{path}.target", f"{r.rule!r} relates two objects; give a target id")
         elif r.target is not None and r.target not in ids and r.target not in areas:
-            yield Problem(f"{path}.target", f"unknown object {r.target!r}.{_did_you_mean(r.target, ids)}")
+            yield Problem(f"{path}.target",
+                          f"unknown object {r.target!r}.{_did_you_mean(r.target, ids)}")
         elif r.target is not None and r.target == r.object:
             yield Problem(f"{path}.target", "an object cannot be related to itself")
         try:

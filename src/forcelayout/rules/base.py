@@ -80,22 +80,30 @@ class State:
             r = self._cache["radius"] = np.hypot(self.size[:, 0], self.size[:, 1]) * 0.5
         return r
 
+    def _axes(self) -> None:
+        c, s = np.cos(self.yaw), np.sin(self.yaw)
+        f = np.empty((c.shape[0], 2))
+        f[:, 0] = -s
+        f[:, 1] = c
+        r = np.empty_like(f)
+        r[:, 0] = c
+        r[:, 1] = s
+        self._cache["front"] = f
+        self._cache["right"] = r
+
     @property
     def front(self) -> np.ndarray:
         """Unit front directions (local +y in the world), shape (N, 2)."""
-        f = self._cache.get("front")
-        if f is None:
-            f = self._cache["front"] = geo.front_vectors(self.yaw)
-        return f
+        if "front" not in self._cache:
+            self._axes()
+        return self._cache["front"]
 
     @property
     def right(self) -> np.ndarray:
         """Unit local +x directions in the world, shape (N, 2)."""
-        r = self._cache.get("right")
-        if r is None:
-            f = self.front
-            r = self._cache["right"] = np.stack([f[:, 1], -f[:, 0]], axis=1)
-        return r
+        if "right" not in self._cache:
+            self._axes()
+        return self._cache["right"]
 
     @property
     def wall_distance(self) -> np.ndarray:
@@ -109,17 +117,39 @@ class State:
             d = self._cache["wall_distance"] = np.sqrt(s * s + beyond * beyond)
         return d
 
-    def separation(self, i: np.ndarray, j: np.ndarray) -> np.ndarray:
-        """Signed separating-axis clearance between footprints ``i`` and ``j``, metres.
+    def _separations(self) -> np.ndarray:
+        m = self._cache.get("separations")
+        if m is None:
+            dc, dr, df, dh = self.room.door_squares
+            if len(dc):
+                m = geo.separation_matrix(np.concatenate([self.pos, dc]),
+                                          np.concatenate([self.right, dr]),
+                                          np.concatenate([self.front, df]),
+                                          np.concatenate([self.half, dh]))
+            else:
+                m = geo.separation_matrix(self.pos, self.right, self.front, self.half)
+            self._cache["separations"] = m
+        return m
 
-        A cheap lower bound on :meth:`gap` (exact when the footprints are
+    @property
+    def separations(self) -> np.ndarray:
+        """Signed separating-axis clearance between all footprints, shape (N, N), metres.
+
+        A cheap lower bound on :meth:`gap` (exact when two footprints are
         separated along one of their axes, the usual case); negative values
-        are overlap depths. Use it in :meth:`Rule.force`, and :meth:`gap` in
-        :meth:`Rule.satisfied`.
+        are overlap depths; the diagonal is meaningless. Use it in
+        :meth:`Rule.force`, and :meth:`gap` in :meth:`Rule.satisfied`.
         """
-        h = self.half
-        r, f = self.right, self.front
-        return geo.obb_separation(self.pos[j] - self.pos[i], r[i], f[i], h[i], r[j], f[j], h[j])
+        return self._separations()[: self.n, : self.n]
+
+    @property
+    def door_separations(self) -> np.ndarray:
+        """Clearance between each footprint and each door's swing square, shape (N, D)."""
+        return self._separations()[: self.n, self.n:]
+
+    def separation(self, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+        """Clearance between footprints ``i`` and ``j`` (see :attr:`separations`), metres."""
+        return self._separations()[i, j]
 
     @property
     def corners(self) -> np.ndarray:
@@ -127,10 +157,13 @@ class State:
         c = self._cache.get("corners")
         if c is None:
             h = self.half
-            r = self.right[:, None, :] * h[:, None, 0:1]
-            f = self.front[:, None, :] * h[:, None, 1:2]
-            c = self.pos[:, None, :] + geo._LOCAL_CORNERS[None, :, 0:1] * r \
-                + geo._LOCAL_CORNERS[None, :, 1:2] * f
+            r = self.right * h[:, 0:1]
+            f = self.front * h[:, 1:2]
+            c = np.empty((self.n, 4, 2))
+            c[:, 0] = self.pos - r - f
+            c[:, 1] = self.pos + r - f
+            c[:, 2] = self.pos + r + f
+            c[:, 3] = self.pos - r + f
             self._cache["corners"] = c
         return c
 

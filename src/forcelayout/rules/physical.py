@@ -14,7 +14,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from forcelayout import geometry as geo
 from forcelayout.rules.base import State
 
 __all__ = ["PhysicalWeights", "repulsion", "boundary", "alignment", "door_clearance", "physical"]
@@ -82,28 +81,21 @@ def repulsion(
     """Short-range logarithmic repulsion between all pairs ``(pi, pj)``.
 
     The force on each body of a pair grows as ``w.repulsion * ln(r0 / g)`` as
-    the clearance ``g`` falls below ``r0 = w.repulsion_range``, pointing
-    from the other body's centre to its own; zero beyond ``r0``.
+    the clearance ``g`` falls below ``r0 = w.repulsion_range`` (floored at
+    ``w.repulsion_floor``), pointing from the other body's centre to its own;
+    zero beyond ``r0``.
     """
     n = state.n
-    f = np.zeros((n, 2))
     if pi.size == 0:
-        return f, np.zeros(n)
-    # broad phase on bounding circles, then separating axes on the near pairs
-    pos = state.pos
-    d = pos[pi] - pos[pj]
-    dist = np.sqrt((d * d).sum(1))
-    rad = state.radius
-    near = dist < rad[pi] + rad[pj] + w.repulsion_range
-    if not near.any():
-        return f, np.zeros(n)
-    pi, pj, d, dist = pi[near], pj[near], d[near], dist[near]
+        return np.zeros((n, 2)), np.zeros(n)
     sep = state.separation(pi, pj)
     active = sep < w.repulsion_range
+    f = np.zeros((n, 2))
     if not active.any():
         return f, np.zeros(n)
-    pi, pj, d, dist, sep = pi[active], pj[active], d[active], dist[active], sep[active]
-    u = d / np.maximum(dist, 1e-9)[:, None]
+    pi, pj, sep = pi[active], pj[active], sep[active]
+    d = state.pos[pi] - state.pos[pj]
+    u = d / np.maximum(np.sqrt((d * d).sum(1)), 1e-9)[:, None]
     fi = u * (w.repulsion * np.log(w.repulsion_range / np.maximum(sep, w.repulsion_floor)))[:, None]
     np.add.at(f, pi, fi)
     np.add.at(f, pj, -fi)
@@ -148,24 +140,17 @@ def door_clearance(state: State, w: PhysicalWeights) -> tuple[np.ndarray, np.nda
     """
     room = state.room
     n = state.n
-    f = np.zeros((n, 2))
     if len(room.doors) == 0 or n == 0:
-        return f, np.zeros(n)
-    centre, dr, df, dh = room.door_squares
+        return np.zeros((n, 2)), np.zeros(n)
     margin = 0.05
-    rel = state.pos[:, None, :] - centre[None, :, :]  # (N, D, 2)
-    reach = state.radius[:, None] + dh[None, :, 0] * np.sqrt(2.0) + margin
-    close = (rel * rel).sum(-1) < reach * reach
-    if not close.any():
-        return f, np.zeros(n)
-    oi, di = np.nonzero(close)
-    sep = geo.obb_separation(-rel[oi, di], state.right[oi], state.front[oi], state.half[oi],
-                             dr[di], df[di], dh[di])
-    depth = np.clip(margin - sep, 0.0, 1.0)
-    along = (rel[oi, di] * dr[di]).sum(-1)
+    depth = margin - state.door_separations  # (N, D)
+    if not (depth > 0).any():
+        return np.zeros((n, 2)), np.zeros(n)
+    depth = np.clip(depth, 0.0, 1.0)
+    centre, dr, df, _ = room.door_squares
+    along = state.pos @ dr.T - (centre * dr).sum(1)  # (N, D) position along each door's wall
     sign = np.where(along >= 0, 1.0, -1.0)
-    push = dr[di] * (sign * depth * w.door * 10.0)[:, None] + df[di] * (depth * w.door * 2.0)[:, None]
-    np.add.at(f, oi, push)
+    f = (sign * depth * (w.door * 10.0)) @ dr + (depth * (w.door * 2.0)) @ df
     return f, np.zeros(n)
 
 

@@ -261,13 +261,14 @@ def occupancy_masks(
     agent_radius: float = 0.2,
     grid: float = 0.05,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Rasterise the floor obstacles of several layouts on one shared grid.
+    """Occupancy masks of several layouts on one shared grid.
 
     A cell is *occupied* when its centre lies inside the layout's floor
     polygon and within ``agent_radius`` of the footprint of an object standing
-    on the floor (``surface == "floor"``). Objects on other objects, walls or
-    the ceiling are not obstacles. The grid covers the union of the rooms'
-    bounding boxes, so masks of different rooms are comparable cell by cell.
+    on the floor (:func:`forcelayout.validate.occupancy_mask`). Objects on
+    other objects, walls or the ceiling are not obstacles; walls are not
+    marked. Each layout's mask is placed on a canvas covering all of their
+    grids, so masks of different rooms are comparable cell by cell.
 
     Parameters
     ----------
@@ -283,44 +284,24 @@ def occupancy_masks(
         Row ``r``, column ``c`` is the cell centred at
         ``origin + ((c + 0.5)·grid, (r + 0.5)·grid)``.
     origin : ndarray, shape (2,)
-        Room coordinates of the grid's lower-left corner, metres.
+        Room coordinates of the canvas's lower-left corner, metres.
     """
+    from forcelayout.validate import occupancy_mask
+
     if not (agent_radius >= 0 and np.isfinite(agent_radius)):
         raise ValueError(f"agent_radius must be >= 0 metres, got {agent_radius}")
     if not (grid > 0 and np.isfinite(grid)):
         raise ValueError(f"grid must be a positive cell size in metres, got {grid}")
     if not layouts:
         return np.zeros((0, 0, 0), dtype=bool), np.zeros(2)
-    b = np.array([lay.room.bounds for lay in layouts])
-    lo = b[:, :2].min(0)
-    hi = b[:, 2:].max(0)
-    shape = np.maximum(np.ceil((hi - lo) / grid).astype(int), 1)
-    if shape[0] * shape[1] > 50_000_000:
-        raise ValueError(f"a {grid} m grid over {hi - lo} m gives {shape[0] * shape[1]} cells; "
-                         "use a coarser grid")
-    xs = lo[0] + (np.arange(shape[0]) + 0.5) * grid
-    ys = lo[1] + (np.arange(shape[1]) + 0.5) * grid
-    px, py = np.meshgrid(xs, ys)  # (H, W)
-    pts = np.stack([px.ravel(), py.ravel()], axis=1)  # (G, 2)
-    masks = np.zeros((len(layouts), shape[1], shape[0]), dtype=bool)
-    inside_cache: dict[int, np.ndarray] = {}
-    for k, lay in enumerate(layouts):
-        key = id(lay.plan.room)
-        inside = inside_cache.get(key)
-        if inside is None:
-            inside = inside_cache[key] = lay.room.contains(pts)
-        occ = np.zeros(len(pts), dtype=bool)
-        st = lay.state()  # floor objects
-        # point -> footprint distance in each object's frame, objects in chunks
-        step = max(1, 4_000_000 // max(len(pts), 1))
-        for s in range(0, st.n, step):
-            sl = slice(s, s + step)
-            d = pts[None, :, :] - st.pos[sl, None, :]  # (n, G, 2)
-            lx = np.abs(np.einsum("ngk,nk->ng", d, st.right[sl])) - st.half[sl, 0:1]
-            ly = np.abs(np.einsum("ngk,nk->ng", d, st.front[sl])) - st.half[sl, 1:2]
-            out = np.hypot(np.maximum(lx, 0.0), np.maximum(ly, 0.0))
-            occ |= (out <= agent_radius).any(axis=0)
-        masks[k] = (occ & inside).reshape(shape[1], shape[0])
+    parts = [occupancy_mask(lay, agent_radius=agent_radius, grid=grid) for lay in layouts]
+    lo = np.min([o for _, o in parts], axis=0)
+    offs = [np.rint((o - lo) / grid).astype(int) for _, o in parts]  # (col, row) offsets
+    h = max(off[1] + m.shape[0] for (m, _), off in zip(parts, offs, strict=True))
+    w = max(off[0] + m.shape[1] for (m, _), off in zip(parts, offs, strict=True))
+    masks = np.zeros((len(parts), h, w), dtype=bool)
+    for k, ((m, _), off) in enumerate(zip(parts, offs, strict=True)):
+        masks[k, off[1]: off[1] + m.shape[0], off[0]: off[0] + m.shape[1]] = m
     return masks, lo
 
 
@@ -705,14 +686,16 @@ def random_layout(
     seed: int | np.random.Generator = 0,
     *,
     max_tries: int = 200,
+    reject: bool = True,
 ) -> Layout:
     """Random poses for every object of a plan: the paper's Random baseline.
 
-    Floor objects get a uniform random centre whose footprint lies inside the
-    room (rejection sampling, at most ``max_tries`` draws per object; the last
-    draw is kept otherwise) and a random cardinal yaw (0, π/2, π, 3π/2). No
-    rule and no collision avoidance is applied: judge the result with
-    :func:`forcelayout.validate.check_layout` and
+    Floor objects, in plan order, get a uniform random centre and a random
+    cardinal yaw (0, π/2, π, 3π/2); a draw is rejected while its footprint
+    leaves the room or (with ``reject``) overlaps an object placed before it
+    or a door's swing square, at most ``max_tries`` draws per object (the
+    last draw is kept otherwise). No rule guides the placement: judge the
+    result with :func:`forcelayout.validate.check_layout` and
     :attr:`Layout.rule_satisfaction` like any other sample. Objects on
     another object (``on_top``) land at a random point of the parent's top;
     wall objects on a random wall at a random height; ceiling objects at a
@@ -723,7 +706,10 @@ def random_layout(
     plan : Plan
     seed : int or numpy.random.Generator
     max_tries : int
-        Draws per floor object before giving up on keeping it inside.
+        Draws per floor object before giving up.
+    reject : bool
+        Reject draws that collide with earlier objects or door squares
+        (``False``: only keep footprints inside the room).
 
     Returns
     -------
@@ -743,15 +729,24 @@ def random_layout(
         if r.rule in {"on_top", "on_wall", "on_wall_mid", "above", "on_ceiling"}:
             parent.setdefault(r.object, (r.rule, r.target))
     floor = [o for o in plan.objects if o.id not in parent]
+    # boxes already on the floor (door swing squares first) as corners (M, 4, 2)
+    dc, dr, df, dh = room.door_squares
+    placed = (dc[:, None, :] + geo._LOCAL_CORNERS[None, :, :1] * (dr * dh[:, :1])[:, None, :]
+              + geo._LOCAL_CORNERS[None, :, 1:] * (df * dh[:, 1:])[:, None, :])
+    if not reject:
+        placed = placed[:0]
     for o in floor:
         half = np.array([o.size[0], o.size[1]]) / 2
-        yaw = float(rng.integers(0, 4)) * math.pi / 2
+        yaw = rng.integers(0, 4, size=max_tries) * (math.pi / 2)
         draws = rng.random((max_tries, 2)) * [xmax - xmin, ymax - ymin] + [xmin, ymin]
-        corners = geo.box_corners(draws, np.full(max_tries, yaw), np.repeat(half[None], max_tries,
-                                                                            axis=0))
+        corners = geo.box_corners(draws, yaw, np.repeat(half[None], max_tries, axis=0))
         ok = room.contains(corners).all(axis=1)
+        if reject and len(placed):
+            sep = geo.box_separation(corners[:, None], placed[None])  # (T, M)
+            ok &= (sep > 0).all(axis=1)
         k = int(np.argmax(ok)) if ok.any() else max_tries - 1
-        poses[o.id] = Pose(float(draws[k, 0]), float(draws[k, 1]), yaw)
+        poses[o.id] = Pose(float(draws[k, 0]), float(draws[k, 1]), float(yaw[k]))
+        placed = np.concatenate([placed, corners[k: k + 1]]) if reject else placed
     rest = [o for o in plan.objects if o.id in parent]
     for _ in range(len(rest) + 1):  # parents before children; bounded by the count
         pending = [o for o in rest if o.id not in poses]
@@ -771,9 +766,12 @@ def random_layout(
                 yaw = tp.yaw + float(rng.integers(0, 4)) * math.pi / 2
                 poses[o.id] = Pose(x, y, yaw, tp.z + tsize[2], target)
             elif rule == "on_ceiling":
-                x = float(rng.uniform(xmin, xmax))
-                y = float(rng.uniform(ymin, ymax))
-                poses[o.id] = Pose(x, y, 0.0, plan.room.height - o.size[2], "ceiling")
+                draws = rng.random((max_tries, 2)) * [xmax - xmin, ymax - ymin] + [xmin, ymin]
+                half = np.repeat(np.array(o.size[:2])[None] / 2, max_tries, axis=0)
+                ok = room.contains(geo.box_corners(draws, np.zeros(max_tries), half)).all(1)
+                k = int(np.argmax(ok)) if ok.any() else max_tries - 1
+                poses[o.id] = Pose(float(draws[k, 0]), float(draws[k, 1]), 0.0,
+                                   plan.room.height - o.size[2], "ceiling")
             else:  # on a wall, back to it
                 w = int(rng.integers(0, room.n_walls))
                 t = float(rng.uniform(min(o.size[0] / 2, room.length[w] / 2),

@@ -1,0 +1,325 @@
+"""Top-down pictures of layouts (PNG, SVG, PDF), headless and notebook-friendly.
+
+Everything draws on :class:`matplotlib.figure.Figure` objects with the Agg
+canvas; pyplot's global state is never touched, so drawing works on servers
+without a display, in worker processes and in notebooks alike.
+
+What a picture shows (room coordinates, metres, equal aspect):
+
+* the floor polygon and its walls (thick lines), doors as gaps with their
+  swing arc and swing square (dotted), windows as double lines;
+* each floor object as its oriented footprint, filled with a colour per
+  functional area (or per category when it has no area), labelled with its
+  id, with a thick line on its front edge;
+* objects on top of others (dashed outline), on walls (dash-dot outline)
+  and on the ceiling (dotted outline, no fill);
+* optionally the cells free for the agent's centre (``show_free_space``);
+* when the layout fails a check, the failing objects outlined in red and
+  the failures listed under the plan.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import re
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from matplotlib import colormaps, rc_context
+from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Arc, Patch
+from matplotlib.patches import Polygon as PolygonPatch
+
+from forcelayout.geometry import box_corners
+
+if TYPE_CHECKING:
+    from forcelayout.layout import Layout
+
+__all__ = ["draw_layout", "draw_many", "layout_svg", "save_figure", "FORMATS"]
+
+#: File suffixes :func:`draw_layout` and :func:`draw_many` can write.
+FORMATS = (".png", ".svg", ".pdf")
+
+_WALL = "#2b2b2b"
+_FAIL = "#d62728"
+_FLOOR = "#f5f2eb"
+_MAX_GRID = 200  # most layouts drawn in one contact sheet
+
+
+def _colour_table(layout: Layout) -> dict[str, Any]:
+    """A colour per functional area (or category), in a stable order."""
+    plan = layout.plan
+    keys: list[str] = [a.name for a in plan.areas]
+    for o in plan.objects:
+        k = o.area or o.category
+        if k not in keys:
+            keys.append(k)
+    cmap = colormaps["tab20"]
+    return {k: cmap((2 * i) % 20 + (i // 10) % 2) for i, k in enumerate(keys)}
+
+
+def _corners(layout: Layout, oid: str) -> np.ndarray:
+    p = layout.poses[oid]
+    size = layout.plan.object(oid).size
+    return box_corners(np.array([[p.x, p.y]]), np.array([p.yaw]),
+                       0.5 * np.array([size[:2]], dtype=float))[0]
+
+
+def _draw_room(ax: Axes, layout: Layout) -> None:
+    from forcelayout.validate.occupancy import _solid_walls
+
+    room = layout.room
+    ax.add_patch(PolygonPatch(room.polygon, closed=True, facecolor=_FLOOR, edgecolor="none",
+                              zorder=0))
+    sa, sb = _solid_walls(room)
+    for a, b in zip(sa, sb, strict=True):
+        ax.plot([a[0], b[0]], [a[1], b[1]], color=_WALL, lw=3.5, solid_capstyle="projecting",
+                zorder=5)
+    w = room.windows
+    for k in range(len(w)):
+        a, b, n = w.a[k], w.b[k], w.normal[k]
+        ax.plot([a[0], b[0]], [a[1], b[1]], color="white", lw=3.5, zorder=6)
+        for off in (-0.03, 0.03):
+            ax.plot([a[0] + off * n[0], b[0] + off * n[0]], [a[1] + off * n[1], b[1] + off * n[1]],
+                    color="#4a7fb5", lw=1.0, zorder=7)
+    d = room.doors
+    centre, right, front, half = room.door_squares
+    sq = box_corners(centre, np.arctan2(right[:, 1], right[:, 0]), half) if len(d) else []
+    for k in range(len(d)):
+        hinge, width = d.a[k], float(d.width[k])
+        t_ang = math.degrees(math.atan2(d.tangent[k][1], d.tangent[k][0]))
+        n_ang = math.degrees(math.atan2(d.normal[k][1], d.normal[k][0]))
+        lo, hi = (t_ang, n_ang) if (n_ang - t_ang) % 360 <= 180 else (n_ang, t_ang)
+        ax.add_patch(Arc(tuple(hinge), 2 * width, 2 * width, theta1=lo, theta2=hi,
+                         color="#8c6d46", lw=1.0, zorder=6))
+        leaf = hinge + d.normal[k] * width
+        ax.plot([hinge[0], leaf[0]], [hinge[1], leaf[1]], color="#8c6d46", lw=1.8, zorder=6)
+        ax.add_patch(PolygonPatch(sq[k], closed=True, fill=False, edgecolor="#8c6d46",
+                                  lw=0.6, ls=":", zorder=1))
+        ax.annotate(f"door {k}", tuple(d.centre[k] + d.normal[k] * 0.12), fontsize=6,
+                    ha="center", va="center", color="#8c6d46", zorder=8)
+
+
+def _draw_objects(ax: Axes, layout: Layout, labels: bool, failing: set[str]
+                  ) -> dict[str, Any]:
+    colours = _colour_table(layout)
+    used: dict[str, Any] = {}
+    styles = {"floor": ("-", 1.0, 3), "top": ("--", 0.75, 4), "wall": ("-.", 0.6, 4),
+              "ceiling": (":", 0.0, 9)}
+    for oid in layout.ids():
+        obj = layout.plan.object(oid)
+        surf = layout.poses[oid].surface
+        kind = ("floor" if surf == "floor" else "ceiling" if surf == "ceiling"
+                else "wall" if surf.startswith("wall:") else "top")
+        ls, alpha, z = styles[kind]
+        key = obj.area or obj.category
+        colour = colours[key]
+        used[key] = colour
+        c = _corners(layout, oid)
+        edge = _FAIL if oid in failing else _WALL
+        face = (*colour[:3], alpha) if alpha > 0 else "none"
+        ax.add_patch(PolygonPatch(c, closed=True, facecolor=face, edgecolor=edge,
+                                  lw=1.6 if oid in failing else 0.9, ls=ls, zorder=z))
+        if kind != "ceiling":  # front edge: corners 2 -> 3
+            ax.plot(c[2:4, 0], c[2:4, 1], color=edge, lw=2.6, solid_capstyle="butt",
+                    zorder=z + 0.1)
+        if labels:
+            centre = c.mean(0)
+            ax.text(centre[0], centre[1], oid, fontsize=6, ha="center", va="center",
+                    zorder=10, color="#111111",
+                    style="italic" if kind != "floor" else "normal")
+    return used
+
+
+def _failing_ids(layout: Layout, failures: Sequence[str]) -> set[str]:
+    quoted = {m for f in failures for m in re.findall(r"'([^']+)'", f)}
+    return quoted & set(layout.poses)
+
+
+def draw_layout(
+    layout: Layout,
+    path: str | Path | None = None,
+    *,
+    ax: Axes | None = None,
+    labels: bool = True,
+    show_free_space: bool = False,
+    title: str | None = None,
+    check: bool = True,
+    list_failures: bool = True,
+    agent_radius: float = 0.2,
+) -> Figure:
+    """Draw a layout top-down.
+
+    Parameters
+    ----------
+    layout : Layout
+    path : str or Path, optional
+        Write the picture there; the format follows the suffix (``.png``,
+        ``.svg`` or ``.pdf``). Missing folders are created.
+    ax : matplotlib Axes, optional
+        Draw into this axes (e.g. a subplot of your own figure) instead of a
+        new figure.
+    labels : bool
+        Write each object's id on it (default True).
+    show_free_space : bool
+        Shade the floor cells free for an agent's centre (from
+        :func:`forcelayout.validate.check_layout`).
+    title : str, optional
+        Axes title; default ``"<plan> · seed <s>"``.
+    check : bool
+        Run the deterministic checks and, if the layout fails them, outline
+        the failing objects in red and list the failures (default True).
+    agent_radius : float
+        Agent radius in metres for the checks and the free-space overlay.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on (``ax.figure`` when ``ax`` is given).
+    """
+    room = layout.room
+    xmin, ymin, xmax, ymax = (float(v) for v in room.bounds)
+    if ax is None:
+        span = max(xmax - xmin, ymax - ymin, 1e-6)
+        fig = Figure(figsize=(6.0 * (xmax - xmin) / span + 2.2, 6.0 * (ymax - ymin) / span + 0.8))
+        FigureCanvasAgg(fig)
+        ax = fig.add_subplot(1, 1, 1)
+    else:
+        fig = ax.figure  # type: ignore[assignment]
+    report = None
+    if check or show_free_space:
+        from forcelayout.validate import check_layout
+
+        report = check_layout(layout, agent_radius=agent_radius)
+    failures = report.failures if (report is not None and check) else []
+
+    _draw_room(ax, layout)
+    if show_free_space and report is not None and report.free_mask is not None:
+        h, w = report.free_mask.shape
+        ox, oy = report.origin
+        ax.imshow(np.where(report.free_mask, 1.0, np.nan), origin="lower", cmap="Greens",
+                  vmin=0.0, vmax=2.0, alpha=0.45, interpolation="nearest", zorder=2,
+                  extent=(ox, ox + w * report.grid, oy, oy + h * report.grid))
+    used = _draw_objects(ax, layout, labels, _failing_ids(layout, failures))
+
+    pad = 0.25
+    ax.set_xlim(xmin - pad, xmax + pad)
+    ax.set_ylim(ymin - pad, ymax + pad)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.tick_params(labelsize=7)
+    ax.set_title(title if title is not None else f"{layout.plan.name} · seed {layout.seed}",
+                 fontsize=9)
+    handles: list[Any] = [Patch(facecolor=c, edgecolor=_WALL, lw=0.5, label=k)
+                          for k, c in used.items()]
+    handles.append(Line2D([], [], color=_WALL, lw=2.6, label="front"))
+    if show_free_space:
+        handles.append(Patch(facecolor=colormaps["Greens"](0.5), alpha=0.45,
+                             label=f"free (agent r={agent_radius:g} m)"))
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=6,
+              frameon=False)
+    if failures and list_failures:
+        shown = failures[:12] + ([f"... and {len(failures) - 12} more"]
+                                 if len(failures) > 12 else [])
+        ax.text(0.0, -0.1, "\n".join(shown), transform=ax.transAxes, va="top", ha="left",
+                fontsize=6, color=_FAIL, wrap=True)
+    if path is not None:
+        save_figure(fig, path)
+    return fig
+
+
+def save_figure(fig: Figure, path: str | Path, *, dpi: int = 150) -> Path:
+    """Write a figure; the format follows the suffix (``.png``, ``.svg``, ``.pdf``).
+
+    Returns
+    -------
+    Path
+        The written file.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in FORMATS:
+        raise ValueError(f"cannot write a picture to {str(path)!r}: the suffix must be one of "
+                         f"{', '.join(FORMATS)}")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if not isinstance(fig.canvas, FigureCanvasAgg):
+        FigureCanvasAgg(fig)
+    with rc_context({"svg.fonttype": "none", "svg.hashsalt": "forcelayout"}):
+        fig.savefig(path, format=suffix[1:], dpi=dpi, bbox_inches="tight",
+                    metadata={"Date": None} if suffix in (".svg", ".pdf") else None)
+    return path
+
+
+def layout_svg(layout: Layout, **kwargs: Any) -> str:
+    """The layout's top-down picture as SVG text (what notebooks show inline).
+
+    Text stays text (object ids are searchable in the SVG). Keyword
+    arguments go to :func:`draw_layout`.
+    """
+    fig = draw_layout(layout, **kwargs)
+    buf = io.StringIO()
+    with rc_context({"svg.fonttype": "none", "svg.hashsalt": "forcelayout"}):
+        fig.savefig(buf, format="svg", bbox_inches="tight", metadata={"Date": None})
+    return buf.getvalue()
+
+
+def draw_many(
+    layouts: Sequence[Layout],
+    path: str | Path | None = None,
+    *,
+    cols: int = 4,
+    labels: bool = False,
+    show_free_space: bool = False,
+    check: bool = True,
+) -> Figure:
+    """A contact sheet: several layouts side by side.
+
+    Parameters
+    ----------
+    layouts : sequence of Layout
+        At most 200 layouts.
+    path : str or Path, optional
+        Write the sheet there (``.png``, ``.svg`` or ``.pdf``).
+    cols : int
+        Layouts per row (default 4).
+    labels, show_free_space, check : bool
+        As in :func:`draw_layout` (labels off by default to keep cells legible).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    layouts = list(layouts)
+    if not layouts:
+        raise ValueError("draw_many: no layouts given; pass at least one Layout")
+    if len(layouts) > _MAX_GRID:
+        raise ValueError(f"draw_many: {len(layouts)} layouts is too many for one sheet "
+                         f"(limit {_MAX_GRID}); draw them in chunks")
+    if cols < 1:
+        raise ValueError(f"draw_many: cols must be >= 1, got {cols}")
+    cols = min(cols, len(layouts))
+    rows = math.ceil(len(layouts) / cols)
+    fig = Figure(figsize=(4.2 * cols, 3.8 * rows))
+    FigureCanvasAgg(fig)
+    axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).ravel()
+    for ax, lay in zip(axes, layouts, strict=False):
+        rep = lay.report
+        status = "" if rep is None else (" ✓" if rep.valid else " ✗")
+        draw_layout(lay, ax=ax, labels=labels, show_free_space=show_free_space, check=check,
+                    list_failures=False, title=f"{lay.plan.name} · seed {lay.seed}{status}")
+        legend = ax.get_legend()
+        if legend is not None:
+            legend.remove()
+    for ax in axes[len(layouts):]:
+        ax.set_axis_off()
+    fig.tight_layout()
+    if path is not None:
+        save_figure(fig, path)
+    return fig

@@ -1,4 +1,15 @@
-"""Binary rules: an object related to a target object."""
+"""Binary rules: an object related to a target object.
+
+Each binding places object ``i`` relative to target ``j``. Forces act on
+``i``; a rule's ``reaction`` says what fraction of that force pushes back on
+the target. Distances in forces use the fast separating-axis clearance
+(:meth:`State.separation`), the checks use the exact footprint gap
+(:meth:`State.gap`). Directions "front", "left" and "right" are the
+*target's*: its local +y, -x and +x (left and right as seen by someone
+standing behind the target, looking where it faces).
+
+Units: metres, radians CCW (angles in ``Params`` are degrees).
+"""
 
 from __future__ import annotations
 
@@ -6,26 +17,340 @@ import numpy as np
 from pydantic import Field
 
 from forcelayout.rules.base import ParamArrays, Rule, State
+from forcelayout.rules.unary import CAP, GAIN, _extent, _ramp, _signed_angle, _unit
 
-__all__ = ["NextTo"]
+__all__ = [
+    "NextTo",
+    "Near",
+    "FarFrom",
+    "Facing",
+    "FaceSameAs",
+    "InFrontOf",
+    "Behind",
+    "LeftOf",
+    "RightOf",
+    "AlignedWith",
+    "Around",
+]
+
+#: Torque per radian of heading error (times the binding weight), and its cap.
+TURN = 2.5
+TURN_CAP = 1.5
 
 
-class NextTo(Rule):
-    """Stand beside the target: footprint gap at most ``distance`` metres."""
+def _turn(err: np.ndarray, dead: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """Torque reducing heading error ``err`` (radians) beyond a dead band ``dead``."""
+    e = np.sign(err) * np.maximum(np.abs(err) - dead, 0.0)
+    return w * TURN * np.clip(e, -TURN_CAP, TURN_CAP)
+
+
+def _facing_error(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """Angle from each object's front to the direction of its target's centre, radians."""
+    u, _ = _unit(state.pos[j] - state.pos[i])
+    return _signed_angle(state.front[i], u)
+
+
+class _Distance(Rule):
+    """Shared pull towards the target while the gap exceeds a bound."""
 
     kind = "binary"
-    weight = 1.5
     reaction = 0.2
+
+    def _pull(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays, target):
+        u, _ = _unit(state.pos[j] - state.pos[i])
+        sep = state.separation(i, j)
+        return u * (p.weight * _ramp(sep - target))[:, None], np.zeros(len(i))
+
+
+class NextTo(_Distance):
+    """Beside the target: footprint gap at most ``distance`` metres."""
+
+    weight = 1.5
 
     class Params(Rule.Params):
         distance: float = Field(0.15, gt=0, description="Largest footprint gap, m.")
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
-        d = state.pos[j] - state.pos[i]
-        u = d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-9)
-        gap = state.gap(i, j)
-        pull = np.clip(gap - 0.5 * p.distance, 0.0, 2.0)
-        return u * (p.weight * 4.0 * pull)[:, None], np.zeros(len(i))
+        return self._pull(state, i, j, p, 0.5 * p.distance)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         return state.gap(i, j) <= p.distance
+
+
+class Near(_Distance):
+    """Near the target: footprint gap at most ``distance`` metres (a soft relation)."""
+
+    weight = 1.0
+
+    class Params(Rule.Params):
+        distance: float = Field(1.0, gt=0, description="Largest footprint gap, m.")
+
+    def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        return self._pull(state, i, j, p, p.distance - np.minimum(0.3, 0.3 * p.distance))
+
+    def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        return state.gap(i, j) <= p.distance
+
+
+class FarFrom(Rule):
+    """Far from the target: footprint gap at least ``distance`` metres.
+
+    Both objects are pushed apart (``reaction`` 0.5).
+    """
+
+    kind = "binary"
+    weight = 1.0
+    reaction = 0.5
+
+    class Params(Rule.Params):
+        distance: float = Field(2.0, gt=0, description="Smallest footprint gap, m.")
+
+    def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        u, _ = _unit(state.pos[i] - state.pos[j])
+        sep = state.separation(i, j)
+        target = p.distance + np.minimum(0.3, 0.1 * p.distance)
+        return u * (p.weight * _ramp(target - sep))[:, None], np.zeros(len(i))
+
+    def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        return state.gap(i, j) >= p.distance
+
+
+class Facing(Rule):
+    """Turned towards the target: its centre within ``max_angle`` degrees of the front.
+
+    A torque only: it turns the object until the target's centre lies well
+    inside the cone; the object does not move.
+    """
+
+    kind = "binary"
+    weight = 1.5
+
+    class Params(Rule.Params):
+        max_angle: float = Field(30.0, gt=0, le=180,
+                                 description="Largest angle between the object's front and "
+                                             "the direction to the target's centre, deg.")
+
+    def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        err = _facing_error(state, i, j)
+        dead = 0.25 * np.radians(p.max_angle)
+        return np.zeros((len(i), 2)), _turn(err, dead, p.weight)
+
+    def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        return np.abs(_facing_error(state, i, j)) <= np.radians(p.max_angle)
+
+
+class FaceSameAs(Rule):
+    """Facing the same way as the target: headings within ``max_angle`` degrees.
+
+    A torque only (e.g. a row of bookshelves or chairs in a row).
+    """
+
+    kind = "binary"
+    weight = 1.0
+
+    class Params(Rule.Params):
+        max_angle: float = Field(15.0, gt=0, le=180,
+                                 description="Largest difference of the two headings, deg.")
+
+    @staticmethod
+    def _err(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+        return _signed_angle(state.front[i], state.front[j])
+
+    def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        dead = 0.25 * np.radians(p.max_angle)
+        return np.zeros((len(i), 2)), _turn(self._err(state, i, j), dead, p.weight)
+
+    def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        return np.abs(self._err(state, i, j)) <= np.radians(p.max_angle)
+
+
+class _Side(Rule):
+    """Placed on one side of the target, in the target's frame.
+
+    ``axis(state, j)`` gives the unit direction ``u`` of the side and the
+    unit lateral direction ``v``; ``hu``/``hv`` are the target's half
+    extents along them. Satisfied when the object's centre lies beyond the
+    target's edge on that side, the footprint gap along ``u`` is at most
+    ``distance``, and the centre is within the target's half extent plus
+    ``lateral`` of the target's centre line.
+    """
+
+    kind = "binary"
+    weight = 1.5
+    reaction = 0.3
+
+    class Params(Rule.Params):
+        distance: float = Field(1.0, ge=0,
+                                description="Largest gap between the two footprints on that "
+                                            "side, m.")
+        lateral: float = Field(0.1, ge=0,
+                               description="Allowed sideways offset of the centre beyond the "
+                                           "target's half extent, m.")
+
+    _sign = 1.0
+    _front = True  # side along the target's front axis (else along its right axis)
+
+    def _frame(self, state: State, j: np.ndarray):
+        f, r, h = state.front[j], state.right[j], state.half[j]
+        if self._front:
+            return self._sign * f, r, h[:, 1], h[:, 0]
+        return self._sign * r, f, h[:, 0], h[:, 1]
+
+    def _coords(self, state: State, i: np.ndarray, j: np.ndarray):
+        u, v, hu, hv = self._frame(state, j)
+        d = state.pos[i] - state.pos[j]
+        a = (d * u).sum(1)  # ahead along the side's direction
+        lat = (d * v).sum(1)
+        gap = a - hu - _extent(state, i, u)
+        return u, v, hu, hv, a, lat, gap
+
+    def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        u, v, hu, hv, a, lat, gap = self._coords(state, i, j)
+        w = p.weight
+        ext_v = _extent(state, i, v)
+        on_side = a > hu
+        # along u: stay between touching and 70% of the allowed gap
+        hi = np.minimum(0.7 * p.distance, p.distance - 0.05)
+        fu = np.clip((np.maximum(0.02 - gap, 0.0) - np.maximum(gap - hi, 0.0)) * GAIN, -CAP, CAP)
+        fu = np.where(on_side, fu, CAP * 0.5)
+        # along v: onto the centre line when on the side, else around the target
+        band = 0.5 * (hv + p.lateral)
+        sgn = np.where(lat >= 0.0, 1.0, -1.0)
+        inward = -sgn * _ramp(np.abs(lat) - band)
+        around = sgn * _ramp(hv + ext_v + 0.05 - np.abs(lat))
+        fv = np.where(on_side, inward, around)
+        f = u * (w * fu)[:, None] + v * (w * fv)[:, None]
+        return f, np.zeros(len(i))
+
+    def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        u, v, hu, hv, a, lat, _ = self._coords(state, i, j)
+        return (a > hu) & (state.gap(i, j) <= p.distance) & (np.abs(lat) <= hv + p.lateral)
+
+
+class InFrontOf(_Side):
+    """In front of the target: in its front half-plane, within ``distance`` metres of it.
+
+    Satisfied when the object's centre lies beyond the target's front edge,
+    the footprint gap is at most ``distance``, and the centre is within the
+    target's half width plus ``lateral`` of its centre line.
+    """
+
+    _sign, _front = 1.0, True
+
+
+class Behind(_Side):
+    """Behind the target: beyond its back edge, within ``distance`` metres of it.
+
+    Satisfied when the object's centre lies beyond the target's back edge,
+    the footprint gap is at most ``distance``, and the centre is within the
+    target's half width plus ``lateral`` of its centre line.
+    """
+
+    _sign, _front = -1.0, True
+
+
+class LeftOf(_Side):
+    """Left of the target (its local -x, seen from behind it), within ``distance`` metres.
+
+    Satisfied when the object's centre lies beyond the target's left side,
+    the footprint gap is at most ``distance``, and the centre is within the
+    target's half depth plus ``lateral`` of its side-to-side centre line.
+    """
+
+    _sign, _front = -1.0, False
+
+
+class RightOf(_Side):
+    """Right of the target (its local +x, seen from behind it), within ``distance`` metres.
+
+    Satisfied when the object's centre lies beyond the target's right side,
+    the footprint gap is at most ``distance``, and the centre is within the
+    target's half depth plus ``lateral`` of its side-to-side centre line.
+    """
+
+    _sign, _front = 1.0, False
+
+
+class AlignedWith(Rule):
+    """Lined up with the target: parallel, centre on one of the target's axes.
+
+    Satisfied when the object's axes are within ``max_angle`` degrees of
+    the target's (modulo 90°) and its centre lies within ``tolerance``
+    metres of the target's front-back or left-right centre line (whichever
+    is nearer), e.g. a row of shelves or a lamp lined up with a sofa.
+    """
+
+    kind = "binary"
+    weight = 1.0
+
+    class Params(Rule.Params):
+        tolerance: float = Field(0.1, gt=0,
+                                 description="Largest offset of the centre from the target's "
+                                             "centre line, m.")
+        max_angle: float = Field(10.0, gt=0, le=45,
+                                 description="Largest angle between the axes (mod 90°), deg.")
+
+    @staticmethod
+    def _geometry(state: State, i: np.ndarray, j: np.ndarray):
+        d = state.pos[i] - state.pos[j]
+        f, r = state.front[j], state.right[j]
+        a, lat = (d * f).sum(1), (d * r).sum(1)
+        # beside the front-back line (|lat| small) or the left-right line (|a| small)
+        on_fb = np.abs(lat) <= np.abs(a)
+        off = np.where(on_fb, lat, a)
+        axis = np.where(on_fb[:, None], r, f)
+        rel = state.yaw[j] - state.yaw[i]
+        err = np.arctan2(np.sin(4.0 * rel), np.cos(4.0 * rel)) / 4.0
+        return off, axis, err
+
+    def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        off, axis, err = self._geometry(state, i, j)
+        mag = _ramp(np.abs(off) - 0.5 * p.tolerance) * -np.sign(off)
+        dead = 0.25 * np.radians(p.max_angle)
+        return axis * (p.weight * mag)[:, None], _turn(err, dead, p.weight)
+
+    def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        off, _, err = self._geometry(state, i, j)
+        return (np.abs(off) <= p.tolerance) & (np.abs(err) <= np.radians(p.max_angle))
+
+
+class Around(Rule):
+    """Around the target (chairs around a table): close to it, facing its centre.
+
+    Satisfied when the footprint gap to the target is at most ``distance``
+    metres and the target's centre lies within ``max_angle`` degrees of the
+    object's front. Besides pulling each object in and turning it, the force
+    spreads the objects bound around the same target evenly around it.
+    """
+
+    kind = "binary"
+    weight = 2.0
+
+    class Params(Rule.Params):
+        distance: float = Field(0.3, gt=0, description="Largest footprint gap to the target, m.")
+        max_angle: float = Field(30.0, gt=0, le=180,
+                                 description="Largest angle between the object's front and "
+                                             "the direction to the target's centre, deg.")
+
+    def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        w = p.weight
+        u, _ = _unit(state.pos[j] - state.pos[i])  # towards the target
+        sep = state.separation(i, j)
+        f = u * (w * _ramp(sep - 0.5 * p.distance))[:, None]
+        b = len(i)
+        if b > 1:  # spread: push apart the angular positions around a shared target
+            theta = np.arctan2(-u[:, 1], -u[:, 0])
+            same = (j[:, None] == j[None, :]) & ~np.eye(b, dtype=bool)
+            k = same.sum(1) + 1
+            dth = np.arctan2(np.sin(theta[:, None] - theta[None, :]),
+                             np.cos(theta[:, None] - theta[None, :]))
+            want = (2.0 * np.pi / k)[:, None]
+            push = np.where(same, np.sign(dth) * np.maximum(want - np.abs(dth), 0.0), 0.0)
+            tang = np.stack([u[:, 1], -u[:, 0]], axis=1)  # CCW around the target
+            f += tang * (w * np.clip(push.sum(1), -CAP / GAIN, CAP / GAIN) * GAIN * 0.5)[:, None]
+        dead = 0.25 * np.radians(p.max_angle)
+        return f, _turn(_facing_error(state, i, j), dead, w)
+
+    def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        close = state.gap(i, j) <= p.distance
+        return close & (np.abs(_facing_error(state, i, j)) <= np.radians(p.max_angle))

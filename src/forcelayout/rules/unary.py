@@ -1,28 +1,92 @@
-"""Unary rules: an object related to the room (walls, corners, middle, openings)."""
+"""Unary rules: an object related to the room (walls, corners, middle, openings).
+
+Every rule here is one small class: a ``Params`` model (defaults and units in
+the field descriptions), a vectorised :meth:`force` that runs every
+simulation step over all bindings at once, and a :meth:`satisfied` check that
+judges finished layouts. Forces pull a little *inside* the satisfied region
+(so the check still passes after the physical terms push back) and vanish
+once it is reached; they are clipped so nothing explodes.
+
+Units: metres, radians CCW (angles in ``Params`` are degrees, as people write
+them); the object's front is its local +y.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 from pydantic import Field
 
-from forcelayout import geometry as geo
 from forcelayout.rules.base import ParamArrays, Rule, State
 
-__all__ = ["AtWall"]
+__all__ = ["AtWall", "InCorner", "InMiddle", "NearWindow", "NearDoor", "AwayFromDoor"]
+
+#: Force per metre of violation (times the binding weight), and its cap.
+GAIN = 4.0
+CAP = 1.5
+
+
+def _ramp(excess: np.ndarray) -> np.ndarray:
+    """Clipped linear pull: 0 for ``excess <= 0``, ``GAIN * excess`` up to ``CAP``."""
+    return np.minimum(np.maximum(excess, 0.0) * GAIN, CAP)
 
 
 def _signed_angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Angle from unit vectors ``a`` to ``b``, radians CCW in [-pi, pi]."""
     cross = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
-    dot = np.einsum("...k,...k->...", a, b)
+    dot = (a * b).sum(-1)
     return np.arctan2(cross, dot)
+
+
+def _extent(state: State, i: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Half extent of footprints ``i`` along unit directions ``u`` (B, 2), metres."""
+    h = state.half[i]
+    return (np.abs((state.front[i] * u).sum(1)) * h[:, 1]
+            + np.abs((state.right[i] * u).sum(1)) * h[:, 0])
+
+
+def _unit(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Unit vectors of ``d`` (B, 2) and their lengths; zero vectors map to +x."""
+    n = np.sqrt((d * d).sum(1))
+    u = d / np.maximum(n, 1e-9)[:, None]
+    u[n < 1e-9] = (1.0, 0.0)
+    return u, n
+
+
+def _wall_pull(state: State, i: np.ndarray, wall: np.ndarray, w: np.ndarray,
+               inside: float = 0.01) -> np.ndarray:
+    """Force pulling footprints ``i`` flat against walls ``wall`` (one per binding).
+
+    The pull is along the wall's outward normal, proportional to the gap
+    between the footprint and the wall's line, aiming ``inside`` metres past
+    the line (the wall itself stops the object).
+    """
+    room = state.room
+    n = room.normal[wall]
+    s = (state.pos[i] * n).sum(1) - room.normal_offset[wall]
+    gap = s - _extent(state, i, n)
+    return -n * (w * _ramp(gap + inside))[:, None]
+
+
+def _convex_corners(state: State) -> tuple[np.ndarray, np.ndarray]:
+    """Indices ``k`` of convex room vertices and their positions (K, 2).
+
+    Vertex ``k`` joins wall ``k - 1`` (ending there) and wall ``k``.
+    """
+    room = state.room
+    t_prev = np.roll(room.tangent, 1, axis=0)
+    cross = t_prev[:, 0] * room.tangent[:, 1] - t_prev[:, 1] * room.tangent[:, 0]
+    k = np.flatnonzero(cross * np.sign(room.signed_area) > 1e-9)
+    return k, room.polygon[k]
 
 
 class AtWall(Rule):
     """Back against the nearest wall, front facing into the room.
 
-    Satisfied when the object's back edge lies within ``tolerance`` metres of
-    a wall and within ``max_angle`` degrees of parallel to it.
+    Satisfied when the object's back edge (local -y side) lies within
+    ``tolerance`` metres of a wall and within ``max_angle`` degrees of
+    parallel to it, with the front facing into the room. The force pulls the
+    footprint onto the nearest wall long enough to take its width; the
+    torque turns its back to that wall.
     """
 
     kind = "unary"
@@ -30,36 +94,208 @@ class AtWall(Rule):
 
     class Params(Rule.Params):
         tolerance: float = Field(0.05, gt=0, description="Largest back-edge gap to the wall, m.")
-        max_angle: float = Field(10.0, gt=0, le=90, description="Largest angle to the wall, deg.")
+        max_angle: float = Field(10.0, gt=0, le=90,
+                                 description="Largest angle between back edge and wall, deg.")
 
-    def _nearest_wall(self, state: State, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _nearest_wall(self, state: State, i: np.ndarray) -> np.ndarray:
         room = state.room
-        d, _ = room.wall_distance(state.pos[i])  # (B, W)
-        # only walls long enough to take the object's width
+        d = state.wall_distance[i]  # (B, W)
+        # prefer walls long enough to take the object's width
         short = room.length[None, :] < state.size[i, 0:1] * 0.9
-        return np.argmin(np.where(short, np.inf, d), axis=1), d
+        return np.argmin(d + short * 100.0, axis=1)
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         room = state.room
-        wall, d = self._nearest_wall(state, i)
-        n = room.normal[wall]  # inward normal of the chosen wall
-        half_d = state.size[i, 1] * 0.5
-        dist = d[np.arange(len(i)), wall]
-        excess = np.clip(dist - half_d + 0.02, -0.1, 1.5)  # pull slightly into the wall
-        f = -n * (p.weight * 4.0 * excess)[:, None]
-        err = _signed_angle(state.front[i], n)
-        tau = p.weight * 2.0 * err
-        return f, tau
+        wall = self._nearest_wall(state, i)
+        w = p.weight
+        f = _wall_pull(state, i, wall, w)
+        # slide back along the wall if the centre is beyond its ends
+        t = room.tangent[wall]
+        along = (state.pos[i] * t).sum(1) - room.tangent_offset[wall]
+        half = _extent(state, i, t)
+        out = np.maximum(half - along, 0.0) - np.maximum(along + half - room.length[wall], 0.0)
+        f += t * (w * np.clip(out * GAIN, -CAP, CAP))[:, None]
+        err = _signed_angle(state.front[i], room.normal[wall])
+        return f, w * 0.8 * np.clip(err, -1.5, 1.5)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         room = state.room
         c = state.corners[i]  # (B, 4, 2)
-        back = c[:, :2, :]  # back-left, back-right
-        d, _ = room.wall_distance(back)  # (B, 2, W)
+        d, _ = room.wall_distance(c[:, :2, :])  # back-left, back-right: (B, 2, W)
         tang = c[:, 1, :] - c[:, 0, :]
-        tang /= np.maximum(np.linalg.norm(tang, axis=1, keepdims=True), 1e-12)
-        par = np.abs(np.einsum("bk,wk->bw", tang, room.tangent))  # |cos| to each wall
+        tang /= np.maximum(np.sqrt((tang * tang).sum(1, keepdims=True)), 1e-12)
+        par = np.abs(tang @ room.tangent.T)  # |cos| to each wall
         ok_angle = par >= np.cos(np.radians(p.max_angle))[:, None]
         ok_dist = d.max(axis=1) <= p.tolerance[:, None]
-        facing_in = np.einsum("bk,wk->bw", state.front[i], room.normal) > 0
+        facing_in = state.front[i] @ room.normal.T > 0
         return np.any(ok_angle & ok_dist & facing_in, axis=1)
+
+
+class InCorner(Rule):
+    """Tucked into a room corner: two adjacent sides against two walls.
+
+    Satisfied when two adjacent sides of the footprint each lie within
+    ``tolerance`` metres of two different walls (either orientation). The
+    force pulls the object into the nearest convex corner; the torque squares
+    it up with the corner's walls.
+    """
+
+    kind = "unary"
+    weight = 3.0
+
+    class Params(Rule.Params):
+        tolerance: float = Field(0.05, gt=0, description="Largest side-to-wall gap, m.")
+
+    def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
+        room = state.room
+        b = len(i)
+        k, vert = _convex_corners(state)
+        if len(k) == 0:
+            return np.zeros((b, 2)), np.zeros(b)
+        d = state.pos[i, None, :] - vert[None, :, :]
+        corner = k[np.argmin((d * d).sum(2), axis=1)]
+        w = p.weight
+        wa = (corner - 1) % room.n_walls
+        f = _wall_pull(state, i, wa, w) + _wall_pull(state, i, corner, w)
+        t = room.tangent[corner]
+        # turn to the nearest multiple of 90 degrees relative to the corner's wall
+        rel = np.arctan2(t[:, 1], t[:, 0]) - state.yaw[i]
+        err = np.arctan2(np.sin(4.0 * rel), np.cos(4.0 * rel)) / 4.0
+        return f, w * 0.8 * err
+
+    def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
+        room = state.room
+        d, _ = room.wall_distance(state.corners[i])  # (B, 4 corners, W)
+        tol = p.tolerance[:, None, None]
+        side = np.maximum(d, np.roll(d, -1, axis=1)) <= tol  # side s = corners s, s+1
+        nxt = np.roll(side, -1, axis=1)  # the adjacent side s+1
+        pair = side[:, :, :, None] & nxt[:, :, None, :]
+        pair &= ~np.eye(room.n_walls, dtype=bool)
+        return pair.any(axis=(1, 2, 3))
+
+
+class InMiddle(Rule):
+    """In the middle of the room, away from the walls.
+
+    Satisfied when the object's centre lies within ``fraction`` of the
+    room's extent from the floor's centroid, on each axis (x and y
+    separately). For L-shaped rooms the centroid may lie near the inner
+    corner. The force pulls the centre towards the centroid.
+    """
+
+    kind = "unary"
+    weight = 2.0
+
+    class Params(Rule.Params):
+        fraction: float = Field(0.25, gt=0, le=0.5,
+                                description="Allowed offset from the centroid per axis, "
+                                            "as a fraction of the room's extent on that axis.")
+
+    def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
+        room = state.room
+        ext = room.bounds[2:] - room.bounds[:2]
+        d = state.pos[i] - room.centroid
+        limit = 0.6 * p.fraction[:, None] * ext[None, :]
+        f = -np.sign(d) * _ramp(np.abs(d) - limit) * p.weight[:, None]
+        return f, np.zeros(len(i))
+
+    def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
+        room = state.room
+        ext = room.bounds[2:] - room.bounds[:2]
+        d = np.abs(state.pos[i] - room.centroid)
+        return np.all(d <= p.fraction[:, None] * ext[None, :], axis=1)
+
+
+class _NearOpening(Rule):
+    """Centre within ``distance`` of the nearest opening (doors or windows)."""
+
+    kind = "unary"
+    weight = 1.5
+    _openings = "windows"
+
+    class Params(Rule.Params):
+        distance: float = Field(1.5, gt=0,
+                                description="Largest distance from the object's centre to the "
+                                            "opening's centre, m.")
+
+    def _nearest(self, state: State, i: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        o = getattr(state.room, self._openings)
+        if len(o) == 0:
+            return None
+        d = state.pos[i, None, :] - o.centre[None, :, :]
+        dist2 = (d * d).sum(2)
+        k = np.argmin(dist2, axis=1)
+        return o.centre[k], np.sqrt(dist2[np.arange(len(i)), k])
+
+    def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
+        b = len(i)
+        near = self._nearest(state, i)
+        if near is None:
+            return np.zeros((b, 2)), np.zeros(b)
+        centre, dist = near
+        u, _ = _unit(centre - state.pos[i])
+        target = p.distance - np.minimum(0.3, 0.25 * p.distance)
+        return u * (p.weight * _ramp(dist - target))[:, None], np.zeros(b)
+
+    def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
+        near = self._nearest(state, i)
+        if near is None:
+            return np.zeros(len(i), dtype=bool)
+        return near[1] <= p.distance
+
+
+class NearWindow(_NearOpening):
+    """Near a window: centre within ``distance`` metres of the nearest window's centre.
+
+    Never satisfied in a room without windows (and then applies no force).
+    """
+
+    _openings = "windows"
+
+
+class NearDoor(_NearOpening):
+    """Near a door: centre within ``distance`` metres of the nearest door's centre.
+
+    Never satisfied in a room without doors (and then applies no force). The
+    always-on door clearance still keeps the door's swing square free.
+    """
+
+    _openings = "doors"
+
+
+class AwayFromDoor(Rule):
+    """Away from every door: centre at least ``distance`` metres from each door's centre.
+
+    Always satisfied in a room without doors. The force pushes the object
+    away from the nearest door that is too close.
+    """
+
+    kind = "unary"
+    weight = 1.5
+
+    class Params(Rule.Params):
+        distance: float = Field(2.0, gt=0,
+                                description="Smallest distance from the object's centre to "
+                                            "any door's centre, m.")
+
+    def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
+        b = len(i)
+        doors = state.room.doors
+        if len(doors) == 0:
+            return np.zeros((b, 2)), np.zeros(b)
+        d = state.pos[i, None, :] - doors.centre[None, :, :]
+        dist2 = (d * d).sum(2)
+        k = np.argmin(dist2, axis=1)
+        away = d[np.arange(b), k]
+        # at a door's centre itself, push straight into the room
+        away = np.where((away * away).sum(1, keepdims=True) < 1e-12, doors.normal[k], away)
+        u, dist = _unit(away)
+        target = p.distance + np.minimum(0.3, 0.15 * p.distance)
+        return u * (p.weight * _ramp(target - dist))[:, None], np.zeros(b)
+
+    def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
+        doors = state.room.doors
+        if len(doors) == 0:
+            return np.ones(len(i), dtype=bool)
+        d = state.pos[i, None, :] - doors.centre[None, :, :]
+        return np.sqrt((d * d).sum(2)).min(axis=1) >= p.distance

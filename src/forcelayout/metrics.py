@@ -125,8 +125,8 @@ def canonical_label(label: str) -> str:
     """The canonical category of an object label (the default canonicaliser).
 
     Lower-cases, turns ``_``/``-`` into spaces, drops digits, collapses
-    whitespace, removes a plural ``s`` when the singular is in
-    :data:`SYNONYMS`, then maps synonyms (``couch`` → ``sofa``, ``bedside
+    whitespace, removes a plural ``s``/``es`` when the singular is
+    in :data:`SYNONYMS`, then maps synonyms (``couch`` → ``sofa``, ``bedside
     table`` → ``nightstand``). Needs no model; replace it by passing
     ``canonical=`` to the metrics.
 
@@ -139,8 +139,12 @@ def canonical_label(label: str) -> str:
     """
     s = re.sub(r"[\d_\-]+", " ", str(label).lower())
     s = " ".join(s.split())
-    if s not in SYNONYMS and s.endswith("s") and s[:-1] in SYNONYMS:
-        s = s[:-1]
+    known = SYNONYMS.keys() | set(SYNONYMS.values())
+    if s not in known:
+        for cut in ("es", "s"):
+            if s.endswith(cut) and s[: -len(cut)] in known:
+                s = s[: -len(cut)]
+                break
     return SYNONYMS.get(s, s)
 
 

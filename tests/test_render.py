@@ -1,0 +1,104 @@
+"""Top-down pictures of hand-built layouts."""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+
+import pytest
+from matplotlib.figure import Figure
+
+from forcelayout import Layout, Plan, Pose
+from forcelayout.render import draw_layout, draw_many, layout_svg
+
+PLAN = Plan.model_validate({
+    "name": "studio",
+    "room": {"polygon": [[0, 0], [4, 0], [4, 2.5], [2.5, 2.5], [2.5, 4], [0, 4]],
+             "doors": [{"wall": 0, "offset": 2.8, "width": 0.9}],
+             "windows": [{"wall": 4, "offset": 1.2, "width": 1.2}]},
+    "areas": [{"name": "sleeping"}, {"name": "work"}],
+    "objects": [
+        {"id": "bed", "category": "bed", "size": [1.4, 2.0, 0.5], "area": "sleeping",
+         "primary": True},
+        {"id": "nightstand", "category": "nightstand", "size": [0.45, 0.4, 0.5],
+         "area": "sleeping"},
+        {"id": "lamp", "category": "lamp", "size": [0.2, 0.2, 0.4], "area": "sleeping"},
+        {"id": "desk", "category": "desk", "size": [1.2, 0.6, 0.75], "area": "work",
+         "primary": True},
+        {"id": "chair", "category": "chair", "size": [0.5, 0.5, 0.9], "area": "work"},
+        {"id": "painting", "category": "painting", "size": [0.8, 0.04, 0.6]},
+        {"id": "light", "category": "ceiling_light", "size": [0.4, 0.4, 0.15]},
+    ],
+    "rules": [{"rule": "on_top", "object": "lamp", "target": "nightstand"},
+              {"rule": "on_ceiling", "object": "light"}],
+})
+POSES = {
+    "bed": Pose(0.7, 2.9, math.pi),
+    "nightstand": Pose(1.65, 3.78, math.pi),
+    "lamp": Pose(1.65, 3.78, 0.0, 0.5, "nightstand"),
+    "desk": Pose(3.68, 1.5, math.pi / 2),
+    "chair": Pose(3.0, 1.5, -math.pi / 2),
+    "painting": Pose(0.02, 2.9, -math.pi / 2, 1.2, "wall:5"),
+    "light": Pose(2.0, 2.0, 0.0, 2.55, "ceiling"),
+}
+
+
+def layout(**changes: Pose) -> Layout:
+    return Layout(PLAN, {**POSES, **changes}, seed=3)
+
+
+def test_png_is_written(tmp_path):
+    out = tmp_path / "sub" / "studio.png"
+    fig = draw_layout(layout(), out, show_free_space=True)
+    assert isinstance(fig, Figure)
+    data = out.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    assert len(data) > 20_000
+
+
+def test_pdf_and_svg_follow_the_suffix(tmp_path):
+    draw_layout(layout(), tmp_path / "a.pdf")
+    assert (tmp_path / "a.pdf").read_bytes()[:5] == b"%PDF-"
+    draw_layout(layout(), tmp_path / "a.svg")
+    ET.fromstring((tmp_path / "a.svg").read_bytes())
+    with pytest.raises(ValueError, match=".png"):
+        draw_layout(layout(), tmp_path / "a.jpeg")
+
+
+def test_svg_parses_and_names_every_object():
+    svg = layout_svg(layout())
+    root = ET.fromstring(svg.encode())
+    assert root.tag.endswith("svg")
+    for oid in PLAN.ids:
+        assert oid in svg
+    assert layout()._repr_svg_() == svg
+
+
+def test_failures_are_listed_on_an_invalid_layout():
+    bad = layout(chair=Pose(2.8, 0.5, 0.0))  # in the door's swing square
+    svg = layout_svg(bad)
+    assert "door: &#39;chair&#39; blocks" in svg or "door: 'chair' blocks" in svg
+    assert "blocks" not in layout_svg(layout())
+
+
+def test_free_space_overlay_changes_the_picture():
+    plain = layout_svg(layout())
+    shaded = layout_svg(layout(), show_free_space=True)
+    assert "<image" in shaded and "<image" not in plain
+
+
+def test_draw_into_a_given_axes():
+    fig = Figure()
+    ax = fig.add_subplot(1, 2, 2)
+    assert draw_layout(layout(), ax=ax, labels=False) is fig
+    assert ax.get_title() == "studio · seed 3"
+    assert not any(t.get_text() == "bed" for t in ax.texts)
+
+
+def test_draw_many_contact_sheet(tmp_path):
+    lays = [layout(), layout(chair=Pose(2.8, 0.5, 0.0)), layout()]
+    fig = draw_many(lays, tmp_path / "sheet.png", cols=2)
+    assert len([a for a in fig.axes if a.axison]) == 3
+    assert (tmp_path / "sheet.png").read_bytes()[:4] == b"\x89PNG"
+    with pytest.raises(ValueError, match="no layouts"):
+        draw_many([])

@@ -1,9 +1,11 @@
 """Stage P of the method: realise a plan's objects as poses from one random generator.
 
 :func:`realise` is what :func:`forcelayout.solve` runs for each sample. It
-places the floor objects with one force-directed simulation; objects placed
-by surface rules (``on_top``, ``on_wall``, ``on_ceiling``) are listed as
-missing with a reason until a surface stage places them.
+places the floor objects (one force-directed simulation, or the hierarchical
+path of :mod:`forcelayout.hierarchy` with ``Options(hierarchy=True)``), then
+the objects on tops, walls and the ceiling (:mod:`forcelayout.surfaces`).
+An object that cannot be placed is listed in :attr:`Placement.missing` with
+the reason, never dropped silently.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ from forcelayout.solver import simulate
 if TYPE_CHECKING:
     from forcelayout.sampling import Options
 
-__all__ = ["Placement", "realise", "initial_poses"]
+__all__ = ["Placement", "realise", "initial_poses", "prepare"]
 
 
 @dataclass
@@ -88,15 +90,73 @@ def initial_poses(
     return pos, yaw
 
 
-def realise(plan: Plan, rng: np.random.Generator, opts: Options) -> Placement:
-    """Place the plan's objects: floor objects by one annealed simulation."""
-    t0 = time.perf_counter()
-    model = ForceModel(plan, relations=opts.relations)
+_PREPARED: dict[int, Plan] = {}
+
+
+def prepare(plan: Plan) -> None:
+    """Checks that need the whole plan, run once per plan object before any simulation.
+
+    Raises
+    ------
+    PlanError
+        A wall object wider than every free wall stretch or outside its
+        height band (:func:`forcelayout.surfaces.check_surfaces`), or a cycle
+        of bonds (:func:`forcelayout.hierarchy.scene_graph`).
+    """
+    if _PREPARED.get(id(plan)) is plan:
+        return
+    from forcelayout.hierarchy import scene_graph
+    from forcelayout.surfaces import check_surfaces
+
+    check_surfaces(plan)
+    scene_graph(plan)
+    if len(_PREPARED) > 64:
+        _PREPARED.clear()
+    _PREPARED[id(plan)] = plan
+
+
+def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options
+                ) -> tuple[dict[str, Pose], int, bool]:
+    model = ForceModel(plan, relations=getattr(opts, "relations", True))
     pos0, yaw0 = initial_poses(model, rng)
     res = simulate(model, pos0, yaw0, opts.solver)
     poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
              for oid, p, y in zip(model.ids, res.pos, res.yaw, strict=True)}
-    missing = [f"{o.id}: placed by {plan.surface_of(o.id)!r}, which is not placed by this "
-               "stage" for o in plan.objects if o.id not in poses]
-    return Placement(poses, res.steps, res.converged, missing,
-                     {"floor": time.perf_counter() - t0})
+    return poses, res.steps, res.converged
+
+
+def realise(plan: Plan, rng: np.random.Generator, opts: Options) -> Placement:
+    """Place every object of the plan: the floor, then tops, walls and the ceiling.
+
+    With ``opts.hierarchy`` the floor comes from the hierarchical path
+    (:func:`forcelayout.hierarchy.sample_floor`: area variants assembled by a
+    room-level simulation, then settled together); otherwise from one
+    annealed simulation of all floor objects. The surface stage
+    (:func:`forcelayout.surfaces.place_surfaces`) then places the ``on_top``,
+    wall and ceiling objects.
+
+    Returns
+    -------
+    Placement
+        Poses of all placed objects; ``missing`` names every object of the
+        plan left without a pose, with the reason. ``stages`` holds seconds
+        per stage (``"floor"``, ``"on_top"``, ``"walls"``, ``"ceiling"``, and
+        on the hierarchical path ``"variants"`` and ``"assembly"``).
+    """
+    from forcelayout.surfaces import place_surfaces
+
+    prepare(plan)
+    t0 = time.perf_counter()
+    stages: dict[str, float] = {}
+    if getattr(opts, "hierarchy", False):
+        from forcelayout.hierarchy import sample_floor
+
+        floor, steps, converged, stages = sample_floor(plan, rng, opts)
+    else:
+        floor, steps, converged = _flat_floor(plan, rng, opts)
+        stages["floor"] = time.perf_counter() - t0
+    surf = place_surfaces(plan, floor, rng, relations=getattr(opts, "relations", True),
+                          solver=opts.solver)
+    stages.update(surf.stages)
+    return Placement(surf.poses, steps + surf.steps, converged and surf.converged,
+                     surf.missing, stages)

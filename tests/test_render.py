@@ -102,3 +102,9 @@ def test_draw_many_contact_sheet(tmp_path):
     assert (tmp_path / "sheet.png").read_bytes()[:4] == b"\x89PNG"
     with pytest.raises(ValueError, match="no layouts"):
         draw_many([])
+
+
+def test_contact_sheet_titles_carry_the_checks_verdict():
+    fig = draw_many([layout(), layout(chair=Pose(2.8, 0.5, 0.0))], cols=2)
+    titles = [a.get_title() for a in fig.axes]
+    assert titles[0].endswith("✓") and titles[1].endswith("✗")

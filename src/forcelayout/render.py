@@ -291,6 +291,8 @@ def draw_many(
         Layouts per row (default 4).
     labels, show_free_space, check : bool
         As in :func:`draw_layout` (labels off by default to keep cells legible).
+        Each title ends with ✓ or ✗: the checks' verdict when ``check`` is
+        True, else the layout's own ``report.valid``.
 
     Returns
     -------
@@ -310,8 +312,13 @@ def draw_many(
     FigureCanvasAgg(fig)
     axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).ravel()
     for ax, lay in zip(axes, layouts, strict=False):
-        rep = lay.report
-        status = "" if rep is None else (" ✓" if rep.valid else " ✗")
+        if check:
+            from forcelayout.validate import check_layout
+
+            valid = check_layout(lay).ok
+        else:
+            valid = lay.report.valid
+        status = " ✓" if valid else " ✗"
         draw_layout(lay, ax=ax, labels=labels, show_free_space=show_free_space, check=check,
                     list_failures=False, title=f"{lay.plan.name} · seed {lay.seed}{status}")
         legend = ax.get_legend()

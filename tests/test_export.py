@@ -1,0 +1,364 @@
+"""forcelayout.export: 3D scenes of layouts (GLB, OBJ, Habitat, USDA, isometric picture)."""
+
+from __future__ import annotations
+
+import importlib
+import json
+import math
+import sys
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from forcelayout.layout import Layout, Pose
+from forcelayout.plan import Plan
+
+trimesh = pytest.importorskip("trimesh")
+export = importlib.import_module("forcelayout.export")
+
+HEIGHT = 2.6
+DOOR = {"wall": 0, "offset": 1.0, "width": 0.9, "height": 2.0}
+WINDOW = {"wall": 2, "offset": 2.0, "width": 1.2, "sill": 0.9, "height": 1.2}
+OBJECTS = [
+    {"id": "bed", "category": "bed", "size": [1.6, 2.0, 0.5]},
+    {"id": "desk", "category": "desk", "size": [1.2, 0.6, 0.75]},
+    {"id": "lamp", "category": "lamp", "size": [0.3, 0.3, 0.4]},
+    {"id": "poster-1.a", "category": "poster", "size": [0.6, 0.05, 0.8]},
+]
+
+
+def make_plan(polygon, doors=(DOOR,), windows=(WINDOW,), objects=OBJECTS, name="test_room"):
+    return Plan.from_dict({
+        "name": name,
+        "room": {"polygon": polygon, "height": HEIGHT, "doors": list(doors),
+                 "windows": list(windows)},
+        "objects": list(objects),
+    })
+
+
+RECT = [[0, 0], [4, 0], [4, 3.5], [0, 3.5]]
+L_SHAPE = [[0, 0], [5, 0], [5, 2], [2, 2], [2, 4], [0, 4]]
+
+
+@pytest.fixture
+def layout():
+    plan = make_plan(RECT)
+    return Layout(plan, {
+        "bed": Pose(1.2, 2.4, 0.0),
+        "desk": Pose(3.2, 1.5, math.pi / 2),
+        "lamp": Pose(3.2, 1.5, 0.0, 0.75, "desk"),
+        "poster-1.a": Pose(3.97, 2.8, math.pi / 2, 1.2, "wall:1"),
+    }, seed=7)
+
+
+def world_boxes(sc, prefix):
+    """(name, inverse transform, half extents) of every node whose name starts with prefix."""
+    out = []
+    for node in sc.graph.nodes_geometry:
+        if not str(node).startswith(prefix):
+            continue
+        T, geom = sc.graph[node]
+        lo, hi = sc.geometry[geom].bounds
+        out.append((node, np.linalg.inv(T), lo, hi))
+    return out
+
+
+def inside_any(boxes, point):
+    p = np.append(np.asarray(point, float), 1.0)
+    hits = []
+    for name, inv, lo, hi in boxes:
+        q = (inv @ p)[:3]
+        if np.all(q > lo + 1e-9) and np.all(q < hi - 1e-9):
+            hits.append(name)
+    return hits
+
+
+def world_bounds(sc, node):
+    T, geom = sc.graph[node]
+    v = trimesh.transform_points(sc.geometry[geom].vertices, T)
+    return v.min(0), v.max(0)
+
+
+# -- scene ---------------------------------------------------------------------
+
+
+def test_one_node_per_placed_object_named_by_id(layout):
+    sc = export.scene(layout)
+    objects = {n for n in sc.graph.nodes_geometry if not n.startswith("room")}
+    assert objects == set(layout.poses)
+    assert sc.geometry["bed"].metadata["category"] == "bed"
+    assert sc.geometry["bed"].metadata["plan"] == "test_room"
+    assert sc.metadata["plan"] == "test_room" and sc.metadata["up"] == "+z"
+    assert "room/floor" in sc.graph.nodes_geometry
+
+
+def test_unplaced_objects_are_left_out(layout):
+    partial = Layout(layout.plan, {"bed": layout.poses["bed"]})
+    sc = export.scene(partial)
+    assert {n for n in sc.graph.nodes_geometry if not n.startswith("room")} == {"bed"}
+
+
+@pytest.mark.parametrize("yaw, swapped", [(0.0, False), (math.pi / 2, True), (math.pi, False),
+                                          (-math.pi / 2, True)])
+def test_box_extents_follow_yaw_and_bottom_is_at_z(layout, yaw, swapped):
+    poses = dict(layout.poses, desk=Pose(2.0, 1.0, yaw, 0.3))
+    sc = export.scene(Layout(layout.plan, poses))
+    lo, hi = world_bounds(sc, "desk")
+    w, d, h = 1.2, 0.6, 0.75
+    expected = [d, w, h] if swapped else [w, d, h]
+    np.testing.assert_allclose(hi - lo, expected, atol=1e-9)
+    np.testing.assert_allclose((lo + hi)[:2] / 2, [2.0, 1.0], atol=1e-9)
+    assert lo[2] == pytest.approx(0.3) and hi[2] == pytest.approx(0.3 + h)
+
+
+@settings(max_examples=30, deadline=None)
+@given(yaw=st.floats(-math.pi, math.pi), x=st.floats(0.5, 3.5), y=st.floats(0.5, 3.0))
+def test_object_front_faces_minus_sin_cos_yaw(yaw, x, y):
+    plan = make_plan(RECT, objects=OBJECTS[:1])
+    sc = export.scene(Layout(plan, {"bed": Pose(x, y, yaw)}))
+    T, _ = sc.graph["bed"]
+    np.testing.assert_allclose(T[:3, 1], [-math.sin(yaw), math.cos(yaw), 0.0], atol=1e-9)
+    np.testing.assert_allclose(T[:3, 3], [x, y, 0.0], atol=1e-9)
+
+
+def test_floor_object_stands_on_floor_and_wall_object_at_its_height(layout):
+    sc = export.scene(layout)
+    assert world_bounds(sc, "bed")[0][2] == pytest.approx(0.0)
+    lo, hi = world_bounds(sc, "poster-1.a")
+    assert lo[2] == pytest.approx(1.2) and hi[2] == pytest.approx(2.0)
+    assert hi[0] - lo[0] == pytest.approx(0.05)  # thin box turned to face the room (-x)
+    floor_lo, floor_hi = world_bounds(sc, "room/floor")
+    assert floor_hi[2] == pytest.approx(0.0) and floor_lo[2] < 0
+
+
+# -- walls and openings ----------------------------------------------------------
+
+
+def test_door_is_a_full_height_gap_with_wall_above(layout):
+    walls = world_boxes(export.scene(layout, wall_thickness=0.1), "room/wall")
+    # door on wall 0 (y = 0, outside is y < 0), centre x = 1.0, width 0.9, height 2.0
+    assert inside_any(walls, [1.0, -0.05, 1.0]) == []
+    assert inside_any(walls, [1.0, -0.05, 0.05]) == []
+    assert inside_any(walls, [0.4, -0.05, 1.0])     # beside the door
+    assert inside_any(walls, [1.6, -0.05, 1.0])
+    assert inside_any(walls, [1.0, -0.05, 2.3])     # above the door
+
+
+def test_window_is_a_gap_between_sill_and_top(layout):
+    walls = world_boxes(export.scene(layout), "room/wall")
+    # window on wall 2 (y = 3.5, runs from x = 4 to 0): centre 2.0 m from (4, 3.5) -> x = 2.0
+    assert inside_any(walls, [2.0, 3.55, 1.5]) == []
+    assert inside_any(walls, [2.0, 3.55, 0.5])      # below the sill
+    assert inside_any(walls, [2.0, 3.55, 2.4])      # above the window
+    assert inside_any(walls, [1.2, 3.55, 1.5])      # beside it
+
+
+def test_walls_reach_room_height_and_stay_outside_the_floor(layout):
+    sc = export.scene(layout)
+    walls = world_boxes(sc, "room/wall")
+    tops = [world_bounds(sc, n)[1][2] for n, *_ in walls]
+    assert max(tops) == pytest.approx(HEIGHT)
+    xs, ys = np.meshgrid(np.linspace(0.01, 3.99, 15), np.linspace(0.01, 3.49, 15))
+    for x, y in zip(xs.ravel(), ys.ravel(), strict=True):
+        assert inside_any(walls, [x, y, 1.0]) == []
+
+
+@pytest.mark.parametrize("wall_thickness", [0.05, 0.2])
+def test_l_shaped_room_walls_are_closed_at_every_corner(wall_thickness):
+    plan = make_plan(L_SHAPE, doors=[{"wall": 4, "offset": 1.0}], windows=[])
+    walls = world_boxes(export.scene(Layout(plan, {}), wall_thickness=wall_thickness),
+                        "room/wall")
+    poly = np.asarray(L_SHAPE, float)
+    shape = plan.room.shape
+    t = wall_thickness
+    for k, v in enumerate(poly):
+        # points just outside the corner, in the wall band (diagonal and along both walls)
+        for dx in (-t / 2, 0.0, t / 2):
+            for dy in (-t / 2, 0.0, t / 2):
+                p = v + [dx, dy]
+                if shape.buffer(1e-6).contains(shapely.Point(p)):
+                    continue
+                assert inside_any(walls, [*p, 1.0]), f"corner {k} open at {p}"
+    # nothing of the walls inside the L
+    for p in [(0.5, 0.5), (4.5, 1.5), (1.9, 3.9), (1.99, 1.99), (3.0, 1.95)]:
+        assert inside_any(walls, [*p, 1.0]) == []
+    # the door on wall 4 (x from 2 to 0 along y = 4... wall 4 runs (2,4)->(0,4)) at x = 1.0
+    assert inside_any(walls, [1.0, 4.0 + t / 2, 1.0]) == []
+    assert inside_any(walls, [1.0, 4.0 + t / 2, 2.3])
+
+
+@settings(max_examples=20, deadline=None)
+@given(w=st.floats(2.5, 8.0), d=st.floats(2.5, 8.0), frac=st.floats(0.0, 1.0),
+       width=st.floats(0.6, 1.2), wall=st.integers(0, 3))
+def test_any_door_leaves_a_gap_and_keeps_the_wall_beside_it(w, d, frac, width, wall):
+    poly = [[0, 0], [w, 0], [w, d], [0, d]]
+    plan = make_plan(poly, doors=[], windows=[], objects=OBJECTS[:1])
+    length = plan.room.wall_length(wall)
+    offset = width / 2 + frac * (length - width)
+    plan = make_plan(poly, doors=[{"wall": wall, "offset": offset, "width": width}], windows=[],
+                     objects=OBJECTS[:1])
+    walls = world_boxes(export.scene(Layout(plan, {})), "room/wall")
+    a, b = np.asarray(poly[wall], float), np.asarray(poly[(wall + 1) % 4], float)
+    tangent = (b - a) / length
+    outward = np.array([tangent[1], -tangent[0]])  # CCW polygon: outside is to the right
+    centre = a + tangent * offset + outward * 0.05
+    assert inside_any(walls, [*centre, 1.0]) == []
+    assert inside_any(walls, [*centre, 2.3])
+    if offset - width / 2 > 0.05:
+        assert inside_any(walls, [*(centre - tangent * (width / 2 + 0.03)), 1.0])
+
+
+def test_bad_wall_thickness_is_refused(layout):
+    with pytest.raises(ValueError, match="wall_thickness"):
+        export.scene(layout, wall_thickness=0.0)
+
+
+# -- frames ----------------------------------------------------------------------
+
+
+def test_y_up_scene_turns_z_to_y(layout):
+    zup, yup = export.scene(layout), export.scene(layout, y_up=True)
+    assert yup.metadata["up"] == "+y"
+    np.testing.assert_allclose(yup.bounds[1][1], HEIGHT, atol=1e-9)
+    lo, hi = world_bounds(zup, "bed")
+    lo2, hi2 = world_bounds(yup, "bed")
+    np.testing.assert_allclose(lo2, [lo[0], lo[2], -hi[1]], atol=1e-9)
+    np.testing.assert_allclose(hi2, [hi[0], hi[2], -lo[1]], atol=1e-9)
+
+
+# -- files -----------------------------------------------------------------------
+
+
+def test_glb_is_written_and_loads_back(layout, tmp_path):
+    path = export.export_glb(layout, tmp_path / "sub" / "room.glb")
+    assert path.exists()
+    loaded = trimesh.load(path)
+    assert isinstance(loaded, trimesh.Scene)
+    assert set(layout.poses) <= set(loaded.graph.nodes_geometry)
+    np.testing.assert_allclose(loaded.bounds, export.scene(layout, y_up=True).bounds, atol=1e-5)
+    _, geom = loaded.graph["bed"]
+    assert loaded.geometry[geom].metadata.get("category") == "bed"
+
+
+def test_obj_is_written_with_a_group_per_object(layout, tmp_path):
+    path = export.export_obj(layout, tmp_path / "room.obj", y_up=False)
+    text = path.read_text()
+    for oid in layout.poses:
+        assert f"o {oid}" in text
+    np.testing.assert_allclose(trimesh.load(path, force="mesh").bounds,
+                               export.scene(layout).bounds, atol=1e-6)
+
+
+def _quat_matrix(q):
+    w, x, y, z = q
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])
+
+
+def test_habitat_scene_instance(layout, tmp_path):
+    out = export.export_habitat(layout, tmp_path / "hab")
+    assert out.name == "test_room_7.scene_instance.json"
+    data = json.loads(out.read_text())
+    inst = data["object_instances"]
+    assert len(inst) == len(layout.poses)
+    assert data["translation_origin"] == "asset_local"
+    stage = data["stage_instance"]["template_name"]
+    root = tmp_path / "hab"
+    stage_cfg = json.loads((root / f"{stage}.stage_config.json").read_text())
+    assert (root / "stages" / stage_cfg["render_asset"]).exists()
+    assert (root / "test_room.scene_dataset_config.json").exists()
+    C = export.Z_UP_TO_Y_UP[:3, :3]
+    for rec in inst:
+        oid = rec["user_defined"]["id"]
+        pose = layout.poses[oid]
+        q = np.asarray(rec["rotation"])
+        assert np.linalg.norm(q) == pytest.approx(1.0)
+        c, s = math.cos(pose.yaw), math.sin(pose.yaw)
+        rz = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+        np.testing.assert_allclose(_quat_matrix(q), C @ rz @ C.T, atol=1e-9)
+        np.testing.assert_allclose(rec["translation"], [pose.x, pose.z, -pose.y], atol=1e-9)
+        cfg = json.loads((root / "objects" / f"{rec['template_name']}.object_config.json")
+                         .read_text())
+        mesh = trimesh.load(root / "objects" / cfg["render_asset"], force="mesh")
+        w, d, h = layout.plan.object(oid).size
+        np.testing.assert_allclose(mesh.bounds, [[-w / 2, 0, -d / 2], [w / 2, h, d / 2]],
+                                   atol=1e-6)
+
+
+def test_habitat_refuses_unknown_motion_type(layout, tmp_path):
+    with pytest.raises(ValueError, match="motion_type"):
+        export.export_habitat(layout, tmp_path, motion_type="floating")
+
+
+def test_usda_names_every_object(layout, tmp_path):
+    path = export.export_usd(layout, tmp_path / "room.usda")
+    text = path.read_text()
+    assert text.startswith("#usda 1.0")
+    assert 'upAxis = "Z"' in text
+    for oid in layout.poses:
+        assert f'string id = "{oid}"' in text
+    assert 'def Xform "poster_1_a"' in text  # '-' and '.' are not allowed in prim names
+    assert text.count("def Cube") == len(layout.poses)
+    assert 'def Mesh "floor"' in text
+    assert text.count("{") == text.count("}")
+    with pytest.raises(ValueError, match="usda"):
+        export.export_usd(layout, tmp_path / "room.glb")
+
+
+def test_usda_translate_and_rotate_are_the_pose(layout):
+    text = export.usda_text(layout)
+    block = text[text.index('def Xform "desk"'):]
+    assert "double3 xformOp:translate = (3.2, 1.5, 0)" in block
+    assert "float xformOp:rotateZ = 90" in block
+
+
+# -- assets ----------------------------------------------------------------------
+
+
+def test_assets_are_scaled_uniformly_into_the_object_size(layout):
+    sphere = trimesh.creation.icosphere(radius=3.0)
+    sc = export.scene(layout, assets={"lamp": sphere})
+    lo, hi = world_bounds(sc, "lamp")
+    np.testing.assert_allclose(hi - lo, [0.3, 0.3, 0.3], atol=1e-6)  # fits 0.3 x 0.3 x 0.4
+    assert lo[2] == pytest.approx(0.75)
+    with pytest.raises(KeyError, match="sofa"):
+        export.scene(layout, assets={"sofa": sphere})
+
+
+# -- picture ---------------------------------------------------------------------
+
+
+def test_isometric_png_is_written(layout, tmp_path):
+    from matplotlib.figure import Figure
+
+    fig = export.isometric(layout, tmp_path / "iso.png")
+    assert isinstance(fig, Figure)
+    assert (tmp_path / "iso.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    texts = {t.get_text() for t in fig.axes[0].texts}
+    assert set(layout.poses) <= texts
+    with pytest.raises(ValueError, match="elevation"):
+        export.isometric(layout, elevation=0.0)
+
+
+def test_isometric_draws_l_shaped_room_without_saving():
+    plan = make_plan(L_SHAPE, doors=[], windows=[], objects=OBJECTS[:1])
+    fig = export.isometric(Layout(plan, {"bed": Pose(1.0, 2.5, 0.3)}), labels=False)
+    assert len(fig.axes[0].collections[0].get_paths()) > 10
+
+
+# -- the extra -------------------------------------------------------------------
+
+
+def test_missing_trimesh_names_the_extra(monkeypatch):
+    for name in list(sys.modules):
+        if name == "forcelayout.export" or name.startswith("forcelayout.export."):
+            monkeypatch.delitem(sys.modules, name)
+    monkeypatch.setitem(sys.modules, "trimesh", None)
+    with pytest.raises(ImportError, match=r'pip install "forcelayout\[export\]"'):
+        importlib.import_module("forcelayout.export")

@@ -662,21 +662,26 @@ def bootstrap_ci(
     for k, g in enumerate(groups):
         pad[k, : g.size] = g
     sizes = np.array([g.size for g in groups])
-    pick = rng.integers(0, p, size=(n_resamples, p))  # plans drawn per resample
-    if resample_within:
-        u = rng.random((n_resamples, p, lmax))
-        col = np.minimum((u * sizes[pick][..., None]).astype(int), sizes[pick][..., None] - 1)
-        valid = np.arange(lmax)[None, None, :] < sizes[pick][..., None]
-        vals = np.where(valid, pad[pick[..., None], col], np.nan)
-    else:
-        vals = pad[pick]  # (R, P, L)
-    vals = vals.reshape(n_resamples, -1)
-    if stat is np.mean:
-        stats = np.nanmean(vals, axis=1)
-    elif stat is np.median:
-        stats = np.nanmedian(vals, axis=1)
-    else:
-        stats = np.array([stat(row[np.isfinite(row)]) for row in vals], dtype=float)
+    chunk = max(1, 4_000_000 // (p * lmax))  # resamples per block, bounding memory
+    blocks = []
+    for start in range(0, n_resamples, chunk):
+        r = min(chunk, n_resamples - start)
+        pick = rng.integers(0, p, size=(r, p))  # plans drawn per resample
+        if resample_within:
+            n_pick = sizes[pick][..., None]
+            col = np.minimum((rng.random((r, p, lmax)) * n_pick).astype(int), n_pick - 1)
+            vals = np.where(np.arange(lmax)[None, None, :] < n_pick, pad[pick[..., None], col],
+                            np.nan)
+        else:
+            vals = pad[pick]  # (r, P, L)
+        vals = vals.reshape(r, -1)
+        if stat is np.mean:
+            blocks.append(np.nanmean(vals, axis=1))
+        elif stat is np.median:
+            blocks.append(np.nanmedian(vals, axis=1))
+        else:
+            blocks.append(np.array([stat(row[np.isfinite(row)]) for row in vals], dtype=float))
+    stats = np.concatenate(blocks)
     alpha = (1 - level) / 2
     low, high = np.quantile(stats, [alpha, 1 - alpha])
     return ConfidenceInterval(estimate, float(low), float(high), level, p)

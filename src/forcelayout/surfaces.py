@@ -379,9 +379,10 @@ def _min_gap_all(pos: np.ndarray, yaw: np.ndarray, size: np.ndarray) -> float:
     return float(m.min())
 
 
-def _target_wall(room: RoomGeometry, corners: np.ndarray) -> int:
+def _target_walls(room: RoomGeometry, corners: np.ndarray) -> list[int]:
+    """The two walls nearest to a footprint, nearest first."""
     d, _ = room.wall_distance(corners)  # (4, W)
-    return int(np.argmin(d.min(axis=0)))
+    return np.argsort(d.min(axis=0), kind="stable")[:2].tolist()
 
 
 def _place_walls(plan: Plan, poses: dict[str, Pose], rng: np.random.Generator,
@@ -409,18 +410,18 @@ def _place_walls(plan: Plan, poses: dict[str, Pose], rng: np.random.Generator,
                 out.missing.append(f"{oid}: its target {spec.target!r} was not placed")
                 continue
             tc, tt = _corners_tops(plan, poses, [spec.target])  # type: ignore[list-item]
-            wall = _target_wall(room, tc[0])
+            walls = _target_walls(room, tc[0])
             clearance = float(registry.get_rule("above").Params.model_validate(spec.params)
                               .clearance)  # type: ignore[attr-defined]
             low = max(low, float(tt[0]) + clearance)
-            u = tc[0] @ room.tangent[wall] - room.tangent_offset[wall]
-            span = (float(u.min()), float(u.max()))
-            walls = [wall]
         else:
             pinned = spec.params.get("wall")
             walls = [int(pinned)] if pinned is not None else rng.permutation(room.n_walls).tolist()
         spot = None
         for wall in walls:
+            if spec.rule == "above":
+                u = tc[0] @ room.tangent[wall] - room.tangent_offset[wall]
+                span = (float(u.min()), float(u.max()))
             spot = _wall_spot(room.length[wall], blocks[wall], w, h, low, high, span, rng)
             if spot is not None:
                 u, v = spot
@@ -433,7 +434,8 @@ def _place_walls(plan: Plan, poses: dict[str, Pose], rng: np.random.Generator,
                 break
         if spot is None:
             band = f"{low:.2f}..{high:.2f} m"
-            where = f"wall {walls[0]}" if len(walls) == 1 else "any wall"
+            where = (f"wall {walls[0]}" if len(walls) == 1 else "any wall"
+                     if spec.rule != "above" else f"walls {walls} near {spec.target!r}")
             out.missing.append(f"{oid}: no free stretch {w:g} m wide on {where} in the band "
                                f"{band} (doors, windows and furniture block it)")
     for wall, items in placed.items():
@@ -450,7 +452,11 @@ def _wall_spot(length: float, blocks: list[tuple[float, float, float, float]], w
     if high - low < h:
         return None
     pref = float(np.clip(EYE_LEVEL - h / 2, low, high - h))
-    heights = [pref, *rng.uniform(low, high - h, 7).tolist()]
+    # eye level first, then just above / below each obstacle, then the band's ends, then random
+    edges = [b[3] for b in blocks] + [b[2] - h for b in blocks]
+    edges = sorted({float(e) for e in edges if low <= e <= high - h},
+                   key=lambda e: abs(e + h / 2 - EYE_LEVEL))
+    heights = [pref, *edges[:16], low, high - h, *rng.uniform(low, high - h, 4).tolist()]
     for v in heights:
         ranges = [(a + w / 2, b - w / 2) for a, b in _free(length, blocks, v, v + h)
                   if b - a >= w]

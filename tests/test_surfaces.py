@@ -1,0 +1,187 @@
+"""Surface placement: objects on tops, on walls (height bands, above) and on the ceiling."""
+
+import copy
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import forcelayout as fl
+from forcelayout.errors import PlanError
+from forcelayout.surfaces import check_surfaces, free_wall_stretches
+
+ROOM = {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]], "height": 2.7,
+        "doors": [{"wall": 0, "offset": 1.0, "width": 0.9}],
+        "windows": [{"wall": 2, "offset": 2.0, "width": 1.2, "sill": 0.9, "height": 1.2}]}
+
+PLAN = {
+    "name": "surfaces",
+    "room": ROOM,
+    "objects": [
+        {"id": "bed", "category": "bed", "size": [1.4, 2.0, 0.5], "primary": True},
+        {"id": "nightstand", "category": "nightstand", "size": [0.45, 0.4, 0.5]},
+        {"id": "lamp", "category": "lamp", "size": [0.2, 0.2, 0.35]},
+        {"id": "book", "category": "book", "size": [0.15, 0.2, 0.04]},
+        {"id": "painting", "category": "painting", "size": [0.9, 0.04, 0.6]},
+        {"id": "clock", "category": "clock", "size": [0.3, 0.05, 0.3]},
+        {"id": "light", "category": "ceiling_light", "size": [0.4, 0.4, 0.15]},
+    ],
+    "rules": [
+        {"rule": "at_wall", "object": "bed"},
+        {"rule": "next_to", "object": "nightstand", "target": "bed"},
+        {"rule": "on_top", "object": "lamp", "target": "nightstand"},
+        {"rule": "on_top", "object": "book", "target": "nightstand"},
+        {"rule": "above", "object": "painting", "target": "bed"},
+        {"rule": "on_wall_mid", "object": "clock", "params": {"wall": 2}},
+        {"rule": "on_ceiling", "object": "light"},
+    ],
+}
+
+
+@pytest.fixture(scope="module")
+def layouts():
+    return [fl.solve(PLAN, seed, check=False) for seed in range(4)]
+
+
+def _inside_top(lay, child, parent):
+    st_ = lay.state([child, parent])
+    c = st_.corners[0] - st_.pos[1]
+    x, y = c @ st_.right[1], c @ st_.front[1]
+    w, d = st_.size[1, :2] / 2
+    return bool((np.abs(x) <= w + 1e-6).all() and (np.abs(y) <= d + 1e-6).all())
+
+
+def test_every_object_gets_a_pose(layouts):
+    for lay in layouts:
+        assert lay.report.missing == []
+        assert set(lay.poses) == set(lay.plan.ids)
+
+
+def test_on_top_children_rest_inside_the_parents_top(layouts):
+    for lay in layouts:
+        for kid in ("lamp", "book"):
+            p = lay.poses[kid]
+            assert p.surface == "nightstand"
+            assert p.z == pytest.approx(0.5)
+            assert _inside_top(lay, kid, "nightstand")
+        assert lay.gap("lamp", "book") >= -1e-6  # they do not overlap on the top
+
+
+def test_painting_hangs_on_a_wall_over_the_bed(layouts):
+    for lay in layouts:
+        p = lay.poses["painting"]
+        assert p.surface.startswith("wall:")
+        w = int(p.surface[5:])
+        room = lay.room
+        assert p.z >= 0.5 + 0.1 - 1e-6  # above the bed's top
+        assert p.z + 0.6 <= 2.7 + 1e-6
+        bed = lay.corners("bed") @ room.tangent[w] - room.tangent_offset[w]
+        u = np.array([p.x, p.y]) @ room.tangent[w] - room.tangent_offset[w]
+        assert bed.min() - 1e-6 <= u <= bed.max() + 1e-6
+        # back on the wall, front into the room
+        back = lay.state(["painting"]).corners[0, :2] @ room.normal[w] - room.normal_offset[w]
+        assert np.abs(back).max() < 1e-6
+
+
+def test_clock_keeps_its_band_and_clears_the_window(layouts):
+    for lay in layouts:
+        p = lay.poses["clock"]
+        assert p.surface == "wall:2"
+        assert 0.9 - 1e-6 <= p.z and p.z + 0.3 <= 2.1 + 1e-6
+        room = lay.room
+        u = np.array([p.x, p.y]) @ room.tangent[2] - room.tangent_offset[2]
+        # the window spans u in [1.4, 2.6] and heights [0.9, 2.1]: the clock is beside it
+        assert u + 0.15 <= 1.4 + 1e-6 or u - 0.15 >= 2.6 - 1e-6
+
+
+def test_ceiling_light(layouts):
+    for lay in layouts:
+        p = lay.poses["light"]
+        assert p.surface == "ceiling"
+        assert p.z == pytest.approx(2.7 - 0.15)
+        assert np.hypot(p.x - 2.0, p.y - 1.5) <= 0.3
+
+
+def test_surface_rules_judge_the_layout(layouts):
+    for lay in layouts:
+        verdict = {(r.rule, r.object): r.satisfied for r in lay.rule_report()}
+        for key in [("on_top", "lamp"), ("on_top", "book"), ("above", "painting"),
+                    ("on_wall_mid", "clock"), ("on_ceiling", "light")]:
+            assert verdict[key] is True, key
+
+
+def test_surface_checks_fail_on_a_moved_object(layouts):
+    lay = layouts[0]
+    poses = dict(lay.poses)
+    lamp = poses["lamp"]
+    poses["lamp"] = fl.Pose(lamp.x + 2.0, lamp.y, lamp.yaw, lamp.z, lamp.surface)
+    poses["light"] = fl.Pose(poses["light"].x, poses["light"].y, 0.0, 1.0, "ceiling")
+    moved = fl.Layout(lay.plan, poses)
+    verdict = {(r.rule, r.object): r.satisfied for r in moved.rule_report()}
+    assert verdict[("on_top", "lamp")] is False
+    assert verdict[("on_ceiling", "light")] is False
+
+
+def test_layout_json_keeps_z_and_surface(layouts):
+    lay = layouts[0]
+    back = fl.Layout.from_json(lay.to_json(), plan=lay.plan)
+    assert back.poses["lamp"].surface == "nightstand"
+    assert back.poses["painting"].surface.startswith("wall:")
+    assert back.poses["light"].z == pytest.approx(lay.poses["light"].z)
+
+
+def test_wall_object_wider_than_every_free_stretch_is_a_plan_error():
+    plan = copy.deepcopy(PLAN)
+    plan["objects"].append({"id": "banner", "category": "banner", "size": [3.5, 0.02, 1.0]})
+    plan["rules"].append({"rule": "on_wall", "object": "banner"})
+    with pytest.raises(PlanError) as e:
+        fl.solve(plan, 0, check=False)
+    msg = str(e.value)
+    assert "rules[7] (on_wall)" in msg and "banner" in msg and "free stretch" in msg
+
+
+def test_object_taller_than_its_band_is_a_plan_error():
+    plan = copy.deepcopy(PLAN)
+    plan["objects"][5]["size"] = [0.3, 0.05, 1.5]  # clock taller than the 0.9..2.1 m band
+    with pytest.raises(PlanError, match=r"rules\[5\] \(on_wall_mid\)\.params.*clock"):
+        check_surfaces(fl.Plan.from_dict(plan))
+
+
+def test_free_wall_stretches_take_out_openings():
+    plan = fl.Plan.from_dict(PLAN)
+    # a 1 m tall object in [0.3, 2.7] cannot pass above or below the door or the window
+    assert free_wall_stretches(plan, 0, 0.3, 2.7, 1.0) == [(0.0, 0.55), (1.45, 4.0)]
+    assert free_wall_stretches(plan, 2, 0.3, 2.7, 1.0) == [(0.0, 1.4), (2.6, 4.0)]
+    # a 0.5 m tall one fits above the door
+    assert free_wall_stretches(plan, 0, 0.3, 2.7, 0.5) == [(0.0, 4.0)]
+
+
+def test_crowded_top_reports_the_missing_object_with_a_reason():
+    plan = {
+        "name": "crowded",
+        "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]]},
+        "objects": [{"id": "stool", "category": "stool", "size": [0.45, 0.45, 0.5]},
+                    {"id": "a", "category": "box", "size": [0.4, 0.4, 0.2]},
+                    {"id": "b", "category": "box", "size": [0.4, 0.4, 0.2]}],
+        "rules": [{"rule": "on_top", "object": "a", "target": "stool"},
+                  {"rule": "on_top", "object": "b", "target": "stool"}],
+    }
+    lay = fl.solve(plan, 0, check=False)
+    assert lay.report.missing
+    assert all("stool" in m for m in lay.report.missing)
+    placed_or_missing = set(lay.poses) | {m.split(":")[0] for m in lay.report.missing}
+    assert placed_or_missing == {"stool", "a", "b"}
+
+
+@settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 2**31), w=st.floats(0.1, 0.45), d=st.floats(0.1, 0.4))
+def test_any_child_that_fits_lands_on_its_parent(seed, w, d):
+    plan = copy.deepcopy(PLAN)
+    plan["objects"][2]["size"] = [w, d, 0.3]
+    plan["objects"] = [o for o in plan["objects"] if o["id"] != "book"]
+    plan["rules"] = [r for r in plan["rules"] if r["object"] != "book"]
+    lay = fl.solve(plan, seed, check=False)
+    assert lay.poses["lamp"].surface == "nightstand"
+    assert _inside_top(lay, "lamp", "nightstand")
+    assert lay.poses["lamp"].z == pytest.approx(0.5)

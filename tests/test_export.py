@@ -156,8 +156,10 @@ def test_window_is_a_gap_between_sill_and_top(layout):
     assert inside_any(walls, [1.2, 3.55, 1.5])      # beside it
 
 
-def test_walls_reach_room_height_and_stay_outside_the_floor(layout):
-    sc = export.scene(layout)
+@pytest.mark.parametrize("clockwise", [False, True])
+def test_walls_reach_room_height_and_stay_outside_the_floor(clockwise):
+    polygon = RECT[::-1] if clockwise else RECT
+    sc = export.scene(Layout(make_plan(polygon, doors=[], windows=[]), {}))
     walls = world_boxes(sc, "room/wall")
     tops = [world_bounds(sc, n)[1][2] for n, *_ in walls]
     assert max(tops) == pytest.approx(HEIGHT)
@@ -185,7 +187,7 @@ def test_l_shaped_room_walls_are_closed_at_every_corner(wall_thickness):
     # nothing of the walls inside the L
     for p in [(0.5, 0.5), (4.5, 1.5), (1.9, 3.9), (1.99, 1.99), (3.0, 1.95)]:
         assert inside_any(walls, [*p, 1.0]) == []
-    # the door on wall 4 (x from 2 to 0 along y = 4... wall 4 runs (2,4)->(0,4)) at x = 1.0
+    # the door on wall 4, which runs (2, 4) -> (0, 4): its centre is at x = 1.0
     assert inside_any(walls, [1.0, 4.0 + t / 2, 1.0]) == []
     assert inside_any(walls, [1.0, 4.0 + t / 2, 2.3])
 
@@ -362,3 +364,14 @@ def test_missing_trimesh_names_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "trimesh", None)
     with pytest.raises(ImportError, match=r'pip install "forcelayout\[export\]"'):
         importlib.import_module("forcelayout.export")
+
+
+@pytest.mark.parametrize("polygon", [RECT, RECT[::-1], L_SHAPE])
+def test_meshes_are_closed_with_outward_faces(polygon):
+    plan = make_plan(polygon, doors=[], windows=[], objects=OBJECTS[:1])
+    sc = export.scene(Layout(plan, {"bed": Pose(1.0, 1.5, 0.4)}), floor_thickness=0.05)
+    floor = sc.geometry["room/floor"]
+    assert floor.is_watertight
+    assert floor.volume == pytest.approx(plan.room.shape.area * 0.05)
+    for name in ("bed", "room/wall_0_0"):
+        assert sc.geometry[name].is_watertight and sc.geometry[name].volume > 0

@@ -1,0 +1,128 @@
+"""``forcelayout plan``: a scene description in, a plan JSON out (needs ``forcelayout[llm]``).
+
+::
+
+    forcelayout plan "a student's bedroom" --out plan.json
+    forcelayout plan "living room" --variants 6 --out plans/       # semantic diversity
+    forcelayout plan "a student's bedroom" --replay run.jsonl      # no server needed
+
+The server, model and key come from ``--base-url`` / ``--model`` or the
+environment (``OPENAI_BASE_URL``, ``FORCELAYOUT_LLM_MODEL``,
+``OPENAI_API_KEY``); the key is never taken on the command line, where
+other users could read it.
+
+``forcelayout generate --prompt "..."`` plans once with
+:func:`plan_for_generate` and generates many layouts of that plan.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+from forcelayout.llm.client import LLMRequestError, ReplayError
+from forcelayout.llm.diversity import MAX_VARIANTS, plan_variants
+from forcelayout.llm.planner import Planner, PlanningError, make_client
+from forcelayout.plan import Plan
+
+__all__ = ["register", "add_client_options", "client_options", "plan_for_generate"]
+
+
+def add_client_options(p: argparse.ArgumentParser) -> None:
+    """Add the options that choose and configure the language model to ``p``."""
+    p.add_argument("--base-url", default=None,
+                   help="OpenAI-compatible server, e.g. http://localhost:11434/v1 "
+                        "(default $OPENAI_BASE_URL, else OpenAI)")
+    p.add_argument("--model", default=None,
+                   help="model name (default $FORCELAYOUT_LLM_MODEL, else gpt-4o-2024-08-06)")
+    p.add_argument("--timeout", type=float, default=120.0,
+                   help="seconds to wait per reply (default 120)")
+    p.add_argument("--temperature", type=float, default=None, help="sampling temperature")
+    p.add_argument("--llm-seed", type=int, default=None, help="sampling seed for the model")
+    p.add_argument("--attempts", type=int, default=3,
+                   help="attempts per planning step (default 3)")
+    p.add_argument("--no-self-check", action="store_true", help="skip the self-check step")
+    p.add_argument("--record", type=Path, default=None,
+                   help="write every request and reply to this JSONL file")
+    p.add_argument("--replay", type=Path, default=None,
+                   help="answer from a recorded JSONL file instead of a server")
+
+
+def client_options(args: argparse.Namespace) -> dict[str, Any]:
+    """Keyword arguments of :func:`forcelayout.llm.make_client` from parsed options."""
+    out: dict[str, Any] = {"record": getattr(args, "record", None),
+                           "replay": getattr(args, "replay", None)}
+    if out["replay"] is None:
+        out.update(base_url=getattr(args, "base_url", None), model=getattr(args, "model", None),
+                   timeout=getattr(args, "timeout", None) or 120.0,
+                   temperature=getattr(args, "temperature", None),
+                   seed=getattr(args, "llm_seed", None))
+    return out
+
+
+def plan_for_generate(args: argparse.Namespace) -> Plan:
+    """The plan for ``forcelayout generate --prompt TEXT``: planned once, with decor.
+
+    Decorative items are always planned, so ``--no-decor`` drops them in the
+    simulation from the same plan (as in the paper's −Decor condition).
+    Reads ``args.prompt`` and the options of :func:`add_client_options` that
+    are present on ``args``; a planning failure raises :class:`PlanningError`.
+    """
+    client = make_client(**client_options(args))
+    planner = Planner(client, decor=True, self_check=not getattr(args, "no_self_check", False),
+                      max_attempts=getattr(args, "attempts", 3) or 3)
+    plan = planner.plan(args.prompt)
+    print(f"planned {plan.name!r} from the prompt: {len(plan.objects)} objects, "
+          f"{len(plan.rules)} rules", file=sys.stderr)
+    return plan
+
+
+def _cmd_plan(args: argparse.Namespace) -> int:
+    try:
+        client = make_client(**client_options(args))
+        kwargs = {"decor": not args.no_decor, "self_check": not args.no_self_check,
+                  "max_attempts": args.attempts}
+        if args.variants:
+            if args.out is None:
+                print("error: --variants needs --out DIR", file=sys.stderr)
+                return 2
+            args.out.mkdir(parents=True, exist_ok=True)
+            got = plan_variants(args.prompt, args.variants, client, **kwargs)
+            for k, (prompt, plan) in enumerate(got):
+                path = plan.save(args.out / f"{k:03d}_{plan.name}.json")
+                print(f"{path}: {prompt}")
+            if len(got) < args.variants:
+                print(f"warning: {args.variants - len(got)} of {args.variants} descriptions "
+                      "could not be planned", file=sys.stderr)
+                return 1
+            return 0
+        plan = Planner(client, **kwargs).plan(args.prompt)
+    except (PlanningError, LLMRequestError, ReplayError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    if args.out is None:
+        print(plan.to_json())
+    else:
+        if args.out.parent != Path(""):
+            args.out.parent.mkdir(parents=True, exist_ok=True)
+        plan.save(args.out)
+        print(f"{args.out}: {plan.name!r}, {len(plan.objects)} objects, {len(plan.rules)} rules")
+    return 0
+
+
+def register(sub: Any) -> None:
+    """Add the ``plan`` sub-command to the ``forcelayout`` command's subparsers."""
+    p = sub.add_parser("plan", help="plan a scene from a description with an LLM "
+                                    "(OpenAI-compatible server)")
+    p.add_argument("prompt", help="the scene in words, e.g. \"a student's bedroom\"")
+    p.add_argument("--out", type=Path, default=None,
+                   help="plan JSON file (default: print it); a folder with --variants")
+    p.add_argument("--variants", type=int, default=0, metavar="K",
+                   help=f"expand the prompt (a room type) into K distinct descriptions and plan "
+                        f"each (1..{MAX_VARIANTS})")
+    p.add_argument("--no-decor", action="store_true",
+                   help="plan without secondary decorative items")
+    add_client_options(p)
+    p.set_defaults(func=_cmd_plan)

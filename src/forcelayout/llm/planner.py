@@ -1,0 +1,529 @@
+"""The multi-step LLM planner: a scene description in, a validated :class:`Plan` out.
+
+Steps (paper §III-A), each one request with structured output:
+
+1. ``room`` — room properties (floor polygon, height, doors, windows) and
+   functional areas;
+2. ``objects`` — objects with sizes, placement rules and pairwise relations,
+   chosen only from the registry's vocabulary;
+3. ``scene_graph`` — areas with their members and area rules, and support
+   bonds (an object on top of another);
+4. ``decor`` — secondary decorative items (off with ``decor=False``, the
+   paper's −Decor condition);
+5. ``self_check`` — the model checks the whole plan and may correct it.
+
+After each step the plan so far is validated by :class:`forcelayout.Plan`;
+a reply that does not parse or fails validation is sent back with every
+problem (and its JSON path) and the step is retried, up to
+``max_attempts`` times. The model's output is only ever parsed as JSON data
+and validated; it is never evaluated or executed.
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+import logging
+import re
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, TypeVar
+
+from pydantic import BaseModel
+
+from forcelayout.errors import PlanError
+from forcelayout.llm.client import (
+    ChatClient,
+    LLMRequestError,
+    OpenAIChatClient,
+    RecordingClient,
+    ReplayClient,
+)
+from forcelayout.llm.prompts import DEFAULT_TEMPLATES, PromptTemplates, render, vocabulary
+from forcelayout.llm.prompts import vocabulary_text as _vocabulary_text
+from forcelayout.llm.steps import (
+    DecorStep,
+    ObjectsStep,
+    PlanDraft,
+    ReplyError,
+    RoomStep,
+    RuleDraft,
+    SceneGraphStep,
+    SelfCheckStep,
+    parse_reply,
+    schema_for,
+)
+from forcelayout.plan import Plan
+from forcelayout.rules import RuleInfo, is_registered
+
+__all__ = ["Planner", "PlanningError", "Attempt", "plan_from_prompt", "make_client", "STEPS"]
+
+log = logging.getLogger("forcelayout.llm")
+
+#: The planning steps in order (the ``name`` each request carries).
+STEPS = ("room", "objects", "scene_graph", "decor", "self_check")
+#: Most attempts per step a planner may be configured with.
+MAX_ATTEMPTS_CAP = 20
+
+M = TypeVar("M", bound=BaseModel)
+Draft = dict[str, Any]
+
+
+@dataclass(frozen=True)
+class Attempt:
+    """One failed attempt of a planning step.
+
+    Attributes
+    ----------
+    step : str
+        The step's name (see :data:`STEPS`).
+    number : int
+        1 for the first attempt of the step.
+    reason : str
+        Why it failed: the request error, or every problem of the reply.
+    """
+
+    step: str
+    number: int
+    reason: str
+
+    def __str__(self) -> str:
+        return f"{self.step} attempt {self.number}: {self.reason}"
+
+
+class PlanningError(RuntimeError):
+    """Planning failed: a step got no usable reply within its attempts.
+
+    Attributes
+    ----------
+    step : str
+        The step that failed.
+    attempts : list of Attempt
+        Every failed attempt of the run, in order, each with its reason.
+    """
+
+    def __init__(self, step: str, attempts: Sequence[Attempt], *, note: str = ""):
+        self.step = step
+        self.attempts = list(attempts)
+        mine = [a for a in self.attempts if a.step == step]
+        head = (f"planning step {step!r} failed after {len(mine)} attempt"
+                f"{'s' if len(mine) != 1 else ''}{note}:")
+        lines = [head, *(f"  {a.number}. {a.reason}" for a in mine)]
+        super().__init__("\n".join(lines))
+
+
+class _Problems(Exception):
+    def __init__(self, problems: list[str]):
+        self.problems = problems
+        super().__init__("; ".join(problems))
+
+
+def _slug(text: str, fallback: str = "plan") -> str:
+    s = re.sub(r"[^A-Za-z0-9_\-]+", "_", text.strip().lower()).strip("_-")
+    return s[:60] or fallback
+
+
+def _did_you_mean(name: str, options: Sequence[str]) -> str:
+    close = difflib.get_close_matches(name, list(options), n=1, cutoff=0.5)
+    return f" Did you mean {close[0]!r}?" if close else ""
+
+
+_PATH = re.compile(r"^(objects|rules)\[(\d+)\](.*)$", re.DOTALL)
+
+
+def _relabel(path: str, offsets: dict[str, tuple[int, str]]) -> str:
+    """Map a plan path (``rules[7] (near)``) to the reply's (``rules[2] (near)``)."""
+    m = _PATH.match(path)
+    if not m or m.group(1) not in offsets:
+        return path
+    off, label = offsets[m.group(1)]
+    k = int(m.group(2))
+    if k < off:
+        return f"plan {path} (from an earlier step)"
+    return f"{label}[{k - off}]{m.group(3)}"
+
+
+def _validate(draft: Draft, offsets: dict[str, tuple[int, str]] | None = None) -> Plan:
+    try:
+        return Plan.from_dict(draft)
+    except PlanError as e:
+        raise _Problems([f"{_relabel(p.path, offsets or {})}: {p.message}"
+                         for p in e.problems]) from None
+
+
+def _room_dict(room: Any) -> dict[str, Any]:
+    return {"polygon": room.polygon, "height": room.height,
+            "doors": [d.model_dump() for d in room.doors],
+            "windows": [w.model_dump() for w in room.windows]}
+
+
+def _object_dict(o: Any, *, decor: bool) -> dict[str, Any]:
+    return {"id": o.id, "category": o.category, "description": o.description,
+            "size": o.size, "area": o.area or None, "primary": bool(o.primary), "decor": decor}
+
+
+def _rule_dict(r: RuleDraft) -> dict[str, Any]:
+    out: dict[str, Any] = {"rule": r.rule, "object": r.object, "params": dict(r.params)}
+    if r.target:
+        out["target"] = r.target
+    return out
+
+
+class Planner:
+    """Plan scenes from text with a language model, step by step.
+
+    Parameters
+    ----------
+    client : ChatClient
+        The model to ask (e.g. :class:`OpenAIChatClient`, :class:`ReplayClient`).
+    templates : PromptTemplates, optional
+        Prompt templates; :data:`DEFAULT_TEMPLATES` if None.
+    decor : bool, default True
+        Run step 4 (secondary decorative items); False gives the −Decor plans.
+    self_check : bool, default True
+        Run step 5 (the model checks and may correct the whole plan).
+    max_attempts : int, default 3
+        Attempts per step before :class:`PlanningError` (1 to 20).
+    rules : str, default "*"
+        Shell pattern of the rule names offered (registered rules of kind
+        unary, binary or surface, including plugins).
+
+    Examples
+    --------
+    >>> from forcelayout.llm import Planner, OpenAIChatClient   # doctest: +SKIP
+    >>> planner = Planner(OpenAIChatClient(base_url="http://localhost:11434/v1",
+    ...                                    model="qwen2.5:14b"))  # doctest: +SKIP
+    >>> plan = planner.plan("a student's bedroom")              # doctest: +SKIP
+    """
+
+    def __init__(
+        self, client: ChatClient, *, templates: PromptTemplates | None = None,
+        decor: bool = True, self_check: bool = True, max_attempts: int = 3, rules: str = "*",
+    ):
+        if not 1 <= int(max_attempts) <= MAX_ATTEMPTS_CAP:
+            raise ValueError(f"max_attempts={max_attempts!r}; give 1 to {MAX_ATTEMPTS_CAP}")
+        if not callable(getattr(client, "complete", None)):
+            raise TypeError(f"client {client!r} has no complete(messages, schema=, name=) method")
+        self.client = client
+        self.templates = templates or DEFAULT_TEMPLATES
+        self.decor = bool(decor)
+        self.self_check = bool(self_check)
+        self.max_attempts = int(max_attempts)
+        self.rules = rules
+        #: Failed attempts of the last :meth:`plan` call (empty if all went first time).
+        self.failed_attempts: list[Attempt] = []
+        self._current: Draft | None = None
+
+    def __repr__(self) -> str:
+        return (f"Planner({self.client!r}, decor={self.decor}, self_check={self.self_check}, "
+                f"max_attempts={self.max_attempts})")
+
+    # -- vocabulary -------------------------------------------------------------------
+    def vocabulary(self) -> list[RuleInfo]:
+        """The rules offered to the model (read from the registry on each call)."""
+        return vocabulary(self.rules)
+
+    def vocabulary_text(self) -> str:
+        """The vocabulary as it appears in the prompts."""
+        return _vocabulary_text(self.vocabulary())
+
+    # -- planning ---------------------------------------------------------------------
+    def plan(self, prompt: str) -> Plan:
+        """Plan a scene from a description.
+
+        Parameters
+        ----------
+        prompt : str
+            The scene in words, e.g. ``"a student's bedroom"``.
+
+        Returns
+        -------
+        Plan
+            A plan that passed the core validation.
+
+        Raises
+        ------
+        PlanningError
+            If a step got no usable reply within ``max_attempts``; it carries
+            every failed attempt with its reason.
+        """
+        prompt = " ".join(str(prompt).split())
+        if not prompt:
+            raise ValueError("the scene description is empty; describe the room, e.g. "
+                             "\"a student's bedroom\"")
+        self.failed_attempts = []
+        self._current: Draft | None = None
+        infos = self.vocabulary()
+        if not infos:
+            raise ValueError(f"no registered rule matches rules={self.rules!r}")
+        kinds = {i.name: i.kind for i in infos}
+        values = {"prompt": prompt, "vocabulary": _vocabulary_text(infos)}
+        names = sorted(kinds)
+
+        draft = self._run("room", RoomStep, values, None,
+                          lambda r: self._apply_room(r, prompt))
+        draft = self._run("objects", ObjectsStep, values, names,
+                          lambda r: self._apply_objects(r, draft, kinds))
+        draft = self._run("scene_graph", SceneGraphStep, values, names,
+                          lambda r: self._apply_graph(r, draft, kinds))
+        if self.decor:
+            draft = self._run("decor", DecorStep, values, names,
+                              lambda r: self._apply_decor(r, draft, kinds))
+        if self.self_check:
+            draft = self._run("self_check", SelfCheckStep, values, names,
+                              lambda r: self._apply_check(r, draft, kinds))
+        plan = Plan.from_dict(draft)
+        log.info("planned %r: %d objects, %d rules, %d failed attempts", plan.name,
+                 len(plan.objects), len(plan.rules), len(self.failed_attempts))
+        return plan
+
+    def _run(self, step: str, model: type[M], values: dict[str, Any],
+             rule_names: list[str] | None, apply: Callable[[M], Draft]) -> Draft:
+        schema = schema_for(model, rule_names)
+        current = self._current
+        text = render(self.templates, {"room": "room", "objects": "objects",
+                                       "scene_graph": "graph", "decor": "decor",
+                                       "self_check": "check"}[step],
+                      **values, schema=json.dumps(schema, separators=(",", ":")),
+                      plan=json.dumps(current, separators=(",", ":")) if current else "{}")
+        base = [{"role": "system", "content": render(self.templates, "system", **values)},
+                {"role": "user", "content": text}]
+        messages = base
+        for number in range(1, self.max_attempts + 1):
+            try:
+                reply = self.client.complete(messages, schema=schema, name=step)
+            except LLMRequestError as e:
+                self._fail(step, number, f"request failed: {e}")
+                if not e.retryable:
+                    raise PlanningError(step, self.failed_attempts,
+                                        note=" (the error is not worth retrying)") from e
+                continue
+            try:
+                draft = apply(parse_reply(reply, model))
+            except (ReplyError, _Problems) as e:
+                self._fail(step, number, "; ".join(e.problems))
+                repair = render(self.templates, "repair", **values,
+                                problems="\n".join(f"- {p}" for p in e.problems))
+                messages = [*base, {"role": "assistant", "content": reply},
+                            {"role": "user", "content": repair}]
+                continue
+            self._current = draft
+            return draft
+        raise PlanningError(step, self.failed_attempts)
+
+    def _fail(self, step: str, number: int, reason: str) -> None:
+        log.info("planning step %r attempt %d failed: %s", step, number, reason)
+        self.failed_attempts.append(Attempt(step, number, reason))
+
+    # -- steps --------------------------------------------------------------------------
+    def _apply_room(self, r: RoomStep, prompt: str) -> Draft:
+        problems = []
+        seen: set[str] = set()
+        for k, a in enumerate(r.areas):
+            if a.name in seen:
+                problems.append(f"areas[{k}].name: area {a.name!r} appears twice")
+            seen.add(a.name)
+        draft: Draft = {"name": _slug(r.name), "description": r.description or prompt,
+                        "room": _room_dict(r.room),
+                        "areas": [{"name": a.name, "description": a.description}
+                                  for a in r.areas],
+                        "objects": [], "rules": []}
+        probe = {**draft, "objects": [{"id": "probe", "category": "probe",
+                                       "size": [0.01, 0.01, 0.01]}]}
+        try:
+            _validate(probe)
+        except _Problems as e:
+            problems.extend(e.problems)
+        if problems:
+            raise _Problems(problems)
+        return draft
+
+    @staticmethod
+    def _vocab_problems(rules: Sequence[RuleDraft], kinds: dict[str, str], label: str,
+                        allowed: tuple[str, ...] = ("unary", "binary", "surface")) -> list[str]:
+        out = []
+        for k, r in enumerate(rules):
+            kind = kinds.get(r.rule)
+            if kind is None:
+                if is_registered(r.rule):  # unregistered names are reported by the plan
+                    out.append(f"{label}[{k}] ({r.rule}): {r.rule!r} is not one of the rules "
+                               f"offered.{_did_you_mean(r.rule, sorted(kinds))} Use only the "
+                               "listed rules")
+            elif kind not in allowed:
+                out.append(f"{label}[{k}] ({r.rule}): a {kind} rule cannot be used here; "
+                           f"use a {' or '.join(allowed)} rule")
+        return out
+
+    def _apply_objects(self, r: ObjectsStep, draft: Draft, kinds: dict[str, str]) -> Draft:
+        problems = self._vocab_problems(r.rules, kinds, "rules")
+        new = {**draft, "objects": [_object_dict(o, decor=False) for o in r.objects],
+               "rules": [_rule_dict(x) for x in r.rules]}
+        try:
+            _validate(new)
+        except _Problems as e:
+            problems.extend(p for p in e.problems if p not in problems)
+        if problems:
+            raise _Problems(_dedupe(problems))
+        return new
+
+    def _apply_graph(self, r: SceneGraphStep, draft: Draft, kinds: dict[str, str]) -> Draft:
+        ids = [o["id"] for o in draft["objects"]]
+        problems: list[str] = []
+        member: dict[str, str] = {}
+        names: set[str] = set()
+        for i, a in enumerate(r.areas):
+            if a.name in names:
+                problems.append(f"areas[{i}].name: area {a.name!r} appears twice")
+            names.add(a.name)
+            for j, oid in enumerate(a.objects):
+                if oid not in ids:
+                    problems.append(f"areas[{i}].objects[{j}]: unknown object {oid!r}."
+                                    f"{_did_you_mean(oid, ids)}")
+                elif oid in member and member[oid] != a.name:
+                    problems.append(f"areas[{i}].objects[{j}]: {oid!r} is already in area "
+                                    f"{member[oid]!r}; an object belongs to one area")
+                else:
+                    member[oid] = a.name
+            for j, ar in enumerate(a.rules):
+                kind = kinds.get(ar.rule)
+                if kind != "unary":
+                    what = "unknown rule" if kind is None else f"a {kind} rule"
+                    problems.append(f"areas[{i}].rules[{j}] ({ar.rule}): {what}; area rules "
+                                    "must be unary rules from the list"
+                                    f"{_did_you_mean(ar.rule, sorted(kinds))}")
+        for k, e in enumerate(r.support):
+            for field, oid in (("object", e.object), ("parent", e.parent)):
+                if oid not in ids:
+                    problems.append(f"support[{k}].{field}: unknown object {oid!r}."
+                                    f"{_did_you_mean(oid, ids)}")
+            if e.object == e.parent:
+                problems.append(f"support[{k}]: an object cannot rest on itself")
+        if problems:
+            raise _Problems(problems)
+        areas = [{"name": a.name, "description": a.description,
+                  "rules": [{"rule": ar.rule, "params": dict(ar.params)} for ar in a.rules]}
+                 for a in r.areas] or draft["areas"]
+        area_names = {a["name"] for a in areas}
+        objects = []
+        for o in draft["objects"]:
+            area = member.get(o["id"], o["area"])
+            objects.append({**o, "area": area if area in area_names else None})
+        rules = list(draft["rules"])
+        n_rules = len(rules)
+        have = {(x["object"], x.get("target")) for x in rules if x["rule"] == "on_top"}
+        if "on_top" in kinds:
+            rules += [{"rule": "on_top", "object": e.object, "target": e.parent, "params": {}}
+                      for e in r.support if (e.object, e.parent) not in have]
+        elif r.support:
+            raise _Problems(["support: the rule 'on_top' is not in the vocabulary; give no "
+                             "support bonds"])
+        new = {**draft, "areas": areas, "objects": objects, "rules": rules}
+        _validate(new, {"rules": (n_rules, "support"), "objects": (len(objects), "objects")})
+        return new
+
+    def _apply_decor(self, r: DecorStep, draft: Draft, kinds: dict[str, str]) -> Draft:
+        problems = self._vocab_problems(r.rules, kinds, "rules")
+        n_obj, n_rules = len(draft["objects"]), len(draft["rules"])
+        new = {**draft,
+               "objects": draft["objects"] + [_object_dict(o, decor=True) for o in r.objects],
+               "rules": draft["rules"] + [_rule_dict(x) for x in r.rules]}
+        try:
+            _validate(new, {"objects": (n_obj, "objects"), "rules": (n_rules, "rules")})
+        except _Problems as e:
+            problems.extend(e.problems)
+        if problems:
+            raise _Problems(_dedupe(problems))
+        return new
+
+    def _apply_check(self, r: SelfCheckStep, draft: Draft, kinds: dict[str, str]) -> Draft:
+        if r.issues:
+            log.info("self-check found: %s", "; ".join(r.issues))
+        if r.plan is None:
+            return draft
+        p: PlanDraft = r.plan
+        problems = [f"plan.{x}" for x in self._vocab_problems(p.rules, kinds, "rules")]
+        if not self.decor and any(o.decor for o in p.objects):
+            problems.append("plan.objects: this plan is planned without decorative items; "
+                            "remove the objects with decor=true")
+        new: Draft = {
+            "name": _slug(p.name, draft["name"]), "description": p.description
+            or draft["description"], "room": _room_dict(p.room),
+            "areas": [{"name": a.name, "description": a.description,
+                       "rules": [{"rule": x.rule, "params": dict(x.params)} for x in a.rules]}
+                      for a in p.areas],
+            "objects": [_object_dict(o, decor=o.decor) for o in p.objects],
+            "rules": [_rule_dict(x) for x in p.rules]}
+        try:
+            Plan.from_dict(new)
+        except PlanError as e:
+            problems.extend(f"plan.{q.path}: {q.message}" for q in e.problems)
+        if problems:
+            raise _Problems(_dedupe(problems))
+        return new
+
+
+def _dedupe(items: list[str]) -> list[str]:
+    return list(dict.fromkeys(items))
+
+
+def make_client(
+    *, record: str | Path | None = None, replay: str | Path | None = None,
+    **client_kwargs: Any,
+) -> ChatClient:
+    """A chat client from options: a replay, or a server (optionally recorded).
+
+    Parameters
+    ----------
+    record : path, optional
+        Write every request and reply to this JSONL file.
+    replay : path, optional
+        Answer from this recording instead of a server (``client_kwargs``
+        other than ``strict`` are then ignored).
+    **client_kwargs
+        Passed to :class:`OpenAIChatClient` (``base_url``, ``model``,
+        ``api_key``, ``timeout``, ``temperature``, ``seed``, ...).
+    """
+    client: ChatClient
+    if replay is not None:
+        client = ReplayClient(replay, strict=bool(client_kwargs.get("strict", False)))
+    else:
+        client_kwargs.pop("strict", None)
+        client = OpenAIChatClient(**client_kwargs)
+    if record is not None:
+        client = RecordingClient(client, record)
+    return client
+
+
+def plan_from_prompt(
+    prompt: str, *, decor: bool = True, self_check: bool = True, max_attempts: int = 3,
+    templates: PromptTemplates | None = None, record: str | Path | None = None,
+    replay: str | Path | None = None, **client_kwargs: Any,
+) -> Plan:
+    """Plan a scene from a description in one call.
+
+    Parameters
+    ----------
+    prompt : str
+        The scene in words, e.g. ``"a student's bedroom"``.
+    decor, self_check, max_attempts, templates
+        See :class:`Planner`.
+    record, replay, **client_kwargs
+        See :func:`make_client` (server URL, model, API key, timeout, ...;
+        by default from ``OPENAI_BASE_URL``, ``FORCELAYOUT_LLM_MODEL``,
+        ``OPENAI_API_KEY``).
+
+    Returns
+    -------
+    Plan
+
+    Examples
+    --------
+    >>> from forcelayout.llm import plan_from_prompt
+    >>> plan = plan_from_prompt("a student's bedroom", base_url="http://localhost:8000/v1",
+    ...                         model="Qwen/Qwen2.5-14B-Instruct")   # doctest: +SKIP
+    """
+    client = make_client(record=record, replay=replay, **client_kwargs)
+    planner = Planner(client, templates=templates, decor=decor, self_check=self_check,
+                      max_attempts=max_attempts)
+    return planner.plan(prompt)

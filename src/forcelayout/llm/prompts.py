@@ -1,0 +1,250 @@
+"""Prompt templates of the planning steps, and the rule vocabulary text.
+
+Templates are :class:`string.Template` strings (``$name`` placeholders), so
+JSON braces need no escaping. Users override any of them::
+
+    from dataclasses import replace
+    from forcelayout.llm import DEFAULT_TEMPLATES, Planner
+    templates = replace(DEFAULT_TEMPLATES, decor="Add only plants and lamps. $plan ...")
+    planner = Planner(client, templates=templates)
+
+Placeholders available to every template: ``$prompt`` (the user's scene
+description), ``$conventions``, ``$vocabulary`` (generated from the rule
+registry, so plugin rules are offered automatically), ``$plan`` (the plan so
+far, JSON), ``$schema`` (the step's JSON Schema) and, in ``expand``,
+``$room_type`` and ``$k``. ``repair`` gets ``$problems``.
+"""
+
+from __future__ import annotations
+
+import string
+from dataclasses import dataclass, fields
+
+from forcelayout.rules import RuleInfo, available_rules, describe_rules
+
+__all__ = ["PromptTemplates", "DEFAULT_TEMPLATES", "vocabulary", "vocabulary_text", "render",
+           "PLANNING_KINDS"]
+
+#: Rule kinds the planner may use.
+PLANNING_KINDS = ("unary", "binary", "surface")
+
+_CONVENTIONS = """\
+Conventions: lengths in metres. The floor is a simple polygon of [x, y] corners listed in \
+order; wall i runs from polygon[i] to polygon[i+1] (the last wall closes back to \
+polygon[0]). A door or window sits on wall i with its centre `offset` metres from \
+polygon[i]; it must fit on the wall. An object's size is [width, depth, height]: width \
+along its left-right axis, depth front-to-back (its front is where a person uses it, e.g. \
+the seat side of a sofa), height upwards. Floor objects together must cover well under \
+60 % of the floor. Ids are unique, made of letters, digits and underscores \
+(e.g. chair_1, chair_2)."""
+
+_SYSTEM = """\
+You plan indoor scenes for a physics-based layout generator. You never give coordinates \
+of furniture: you describe the room, the objects and the rules that place them; the \
+generator finds many layouts that meet the rules. Answer every request with exactly one \
+JSON object that follows the JSON Schema given, with no other text."""
+
+_ROOM = """\
+Scene description: "$prompt"
+
+Step 1 of 5: room properties and functional areas.
+Choose a plausible room for the description: its floor polygon (usually a rectangle, an \
+L-shape when the description suggests it), ceiling height, doors and windows; and 2 to 4 \
+functional areas (e.g. sleeping, work, storage, seating).
+
+$conventions
+
+Answer with JSON following this schema:
+$schema"""
+
+_OBJECTS = """\
+Scene description: "$prompt"
+
+Step 2 of 5: the furniture and its placement rules.
+List the main (non-decorative) objects this room needs, each with a realistic size, its \
+functional area and whether it is primary (main furniture a person must reach). Then give \
+the placement rules and pairwise relations that make the room functional. Use only these \
+rules; unary rules take no target, binary rules and on_top need a target object id:
+
+$vocabulary
+
+$conventions
+
+The plan so far:
+$plan
+
+Answer with JSON following this schema:
+$schema"""
+
+_GRAPH = """\
+Scene description: "$prompt"
+
+Step 3 of 5: the scene graph.
+Group the objects into the functional areas (every object id in at most one area) and give \
+each area its placement rules (unary rules only, e.g. at_wall for a sleeping area). List \
+support bonds: an object that rests on top of another (a lamp on a nightstand) as \
+{"object": child id, "parent": parent id}. Use only these rules:
+
+$vocabulary
+
+The plan so far:
+$plan
+
+Answer with JSON following this schema:
+$schema"""
+
+_DECOR = """\
+Scene description: "$prompt"
+
+Step 4 of 5: secondary decorative items.
+Add the small and decorative items that make the room look lived-in (plants, lamps, \
+pictures, ceiling lights) with realistic sizes and rules that place them: on_top of \
+furniture, on walls, on the ceiling, or on the floor next to furniture. Use new unique ids \
+and only these rules:
+
+$vocabulary
+
+$conventions
+
+The plan so far:
+$plan
+
+Answer with JSON following this schema:
+$schema"""
+
+_CHECK = """\
+Scene description: "$prompt"
+
+Step 5 of 5: check the plan.
+Check the plan below for logical problems: missing furniture the description asks for, \
+unrealistic sizes, rules that contradict each other (e.g. an object both next_to and \
+far_from the same target), relations that make no sense, objects that do not fit the room. \
+If it is fine, answer {"issues": [], "plan": null}. Otherwise list the issues and give the \
+whole corrected plan. Use only these rules:
+
+$vocabulary
+
+$conventions
+
+The plan:
+$plan
+
+Answer with JSON following this schema:
+$schema"""
+
+_REPAIR = """\
+Your reply could not be used:
+$problems
+
+Answer again with the complete corrected JSON object for this step, following the schema."""
+
+_EXPAND = """\
+Write $k distinct, specific descriptions of a "$room_type" as one might ask an interior \
+designer for it (e.g. "a student's bedroom with a desk by the window", "a cosy reading \
+corner living room"). Vary who lives there, the style, the size and the furniture. Each \
+description is one sentence.
+
+Answer with JSON following this schema:
+$schema"""
+
+
+@dataclass(frozen=True)
+class PromptTemplates:
+    """The planner's prompt templates (``string.Template`` syntax, ``$name``).
+
+    Attributes
+    ----------
+    system : str
+        System message of every request.
+    room, objects, graph, decor, check : str
+        User message of planning steps 1-5.
+    repair : str
+        Message sent after an unusable reply; ``$problems`` lists what was wrong.
+    expand : str
+        Message asking for ``$k`` descriptions of ``$room_type`` (semantic diversity).
+    conventions : str
+        Text inserted for ``$conventions``.
+    """
+
+    system: str = _SYSTEM
+    room: str = _ROOM
+    objects: str = _OBJECTS
+    graph: str = _GRAPH
+    decor: str = _DECOR
+    check: str = _CHECK
+    repair: str = _REPAIR
+    expand: str = _EXPAND
+    conventions: str = _CONVENTIONS
+
+
+#: The templates used unless a planner is given others.
+DEFAULT_TEMPLATES = PromptTemplates()
+
+
+def render(templates: PromptTemplates, which: str, **values: object) -> str:
+    """Fill template ``which`` of ``templates`` with ``values``.
+
+    Raises
+    ------
+    ValueError
+        If the template uses a placeholder that has no value, or is not a field.
+    """
+    names = [f.name for f in fields(templates)]
+    if which not in names:
+        raise ValueError(f"no prompt template {which!r}; templates are {names}")
+    values.setdefault("conventions", templates.conventions)
+    try:
+        return string.Template(getattr(templates, which)).substitute(
+            {k: str(v) for k, v in values.items()})
+    except KeyError as e:
+        raise ValueError(f"prompt template {which!r} uses ${e.args[0]}, which is not available "
+                         f"here; available: {', '.join('$' + k for k in sorted(values))}"
+                         ) from None
+    except ValueError as e:
+        raise ValueError(f"prompt template {which!r}: {e}; write a literal $ as $$") from None
+
+
+def vocabulary(pattern: str = "*") -> list[RuleInfo]:
+    """The registered rules the planner may offer (kinds unary, binary, surface).
+
+    Rules whose plugin cannot be loaded are left out (and logged), so one
+    broken plugin does not stop planning.
+    """
+    import logging
+
+    out = []
+    for name in available_rules(pattern):
+        try:
+            info = describe_rules(name)
+        except Exception as e:  # a broken plugin: leave it out of the vocabulary
+            logging.getLogger("forcelayout.llm").warning(
+                "rule %r is left out of the LLM vocabulary: it failed to load (%s)", name, e)
+            continue
+        out.extend(i for i in info if i.name == name and i.kind in PLANNING_KINDS)
+    return out
+
+
+def _one_line(text: str, limit: int = 400) -> str:
+    flat = " ".join(text.split())
+    return flat if len(flat) <= limit else flat[: limit - 3].rstrip() + "..."
+
+
+def vocabulary_text(infos: list[RuleInfo]) -> str:
+    """The vocabulary as prompt text: one line per rule with its kind, doc and params."""
+    lines = []
+    for kind in PLANNING_KINDS:
+        group = [i for i in infos if i.kind == kind]
+        if not group:
+            continue
+        lines.append(f"{kind} rules:")
+        for i in group:
+            doc = i.doc
+            if doc.startswith(i.summary):
+                doc = doc[len(i.summary):]
+            text = _one_line(f"{i.summary} {doc}")
+            params = ", ".join(
+                f"{k}={v.get('default')!r}" + (f" ({v['description']})" if v.get("description")
+                                               else "")
+                for k, v in i.params.items())
+            lines.append(f"- {i.name}: {text}" + (f" Params: {params}." if params else ""))
+    return "\n".join(lines)

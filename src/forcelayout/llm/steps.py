@@ -1,0 +1,289 @@
+"""The structured replies of the planning steps, as pydantic models.
+
+Each step of the planner asks for one JSON object following one of these
+models' JSON Schema; the reply is parsed with :func:`parse_reply` and turned
+into part of a :class:`forcelayout.Plan`. The models are deliberately plain
+(lists instead of tuples, few constraints) so that any structured-output
+backend accepts their schema; the plan's own validation is the real check.
+Rule names are restricted to the registry's vocabulary by an ``enum`` added
+to the schema at request time (see :func:`schema_for`).
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import re
+from typing import Any
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+__all__ = [
+    "OpeningDraft",
+    "WindowDraft",
+    "RoomDraft",
+    "AreaDraft",
+    "ObjectDraft",
+    "RuleDraft",
+    "AreaRuleDraft",
+    "RoomStep",
+    "ObjectsStep",
+    "GraphArea",
+    "SupportEdge",
+    "SceneGraphStep",
+    "DecorStep",
+    "PlanDraft",
+    "SelfCheckStep",
+    "PromptList",
+    "ReplyError",
+    "parse_reply",
+    "schema_for",
+    "MAX_REPLY_CHARS",
+    "MAX_OBJECTS",
+]
+
+#: Longest reply text parsed, characters; longer replies are rejected.
+MAX_REPLY_CHARS = 200_000
+#: Most objects one step may add.
+MAX_OBJECTS = 60
+
+
+class _Draft(BaseModel):
+    model_config = ConfigDict(extra="ignore")
+
+
+class OpeningDraft(_Draft):
+    """A door on a wall."""
+
+    wall: int = Field(description="Index i of the wall polygon[i] -> polygon[i+1].")
+    offset: float = Field(description="Distance of the door's centre from polygon[i], m.")
+    width: float = Field(0.9, description="Width along the wall, m.")
+
+
+class WindowDraft(OpeningDraft):
+    """A window on a wall."""
+
+    width: float = Field(1.2, description="Width along the wall, m.")
+    sill: float = Field(0.9, description="Height of the bottom edge above the floor, m.")
+    height: float = Field(1.2, description="Window height, m.")
+
+
+class RoomDraft(_Draft):
+    """The room's floor polygon, height, doors and windows."""
+
+    polygon: list[list[float]] = Field(
+        description="Floor corners [x, y] in metres, in order around the room.")
+    height: float = Field(2.7, description="Ceiling height, m.")
+    doors: list[OpeningDraft] = Field(default_factory=list)
+    windows: list[WindowDraft] = Field(default_factory=list)
+
+
+class AreaDraft(_Draft):
+    """A functional area of the room (e.g. 'sleeping')."""
+
+    name: str = Field(description="Short snake_case name, e.g. 'sleeping'.")
+    description: str = ""
+
+
+class RoomStep(_Draft):
+    """Step 1: room properties and functional areas."""
+
+    name: str = Field(description="Short snake_case name of the scene, e.g. 'student_bedroom'.")
+    description: str = Field("", description="One sentence describing the scene.")
+    shape: str = Field("", description="The room's shape in words, e.g. 'rectangular, 4 x 3.5 m'.")
+    room: RoomDraft
+    areas: list[AreaDraft] = Field(default_factory=list)
+
+
+class ObjectDraft(_Draft):
+    """One object of the scene."""
+
+    id: str = Field(description="Unique id of letters, digits and _ , e.g. 'nightstand_1'.")
+    category: str = Field(description="Object class, e.g. 'nightstand'.")
+    description: str = Field("", description="Looks and material, for finding a 3D model.")
+    size: list[float] = Field(min_length=3, max_length=3,
+                              description="[width, depth, height] in metres; front is the "
+                                          "depth side.")
+    area: str | None = Field(None, description="Name of the functional area it belongs to.")
+    primary: bool = Field(False, description="Main furniture that must be reachable.")
+
+
+class RuleDraft(_Draft):
+    """One placement rule or relation from the vocabulary."""
+
+    rule: str = Field(description="Rule name from the vocabulary.")
+    object: str = Field(description="Id of the object the rule places.")
+    target: str | None = Field(None, description="Id of the other object, for relations.")
+    params: dict[str, Any] = Field(default_factory=dict,
+                                   description="Optional rule parameters (see vocabulary).")
+
+
+class ObjectsStep(_Draft):
+    """Step 2: the objects with sizes, and their placement rules and relations."""
+
+    objects: list[ObjectDraft] = Field(min_length=1, max_length=MAX_OBJECTS)
+    rules: list[RuleDraft] = Field(default_factory=list)
+
+
+class AreaRuleDraft(_Draft):
+    """A placement rule for a whole functional area (unary rules only)."""
+
+    rule: str
+    params: dict[str, Any] = Field(default_factory=dict)
+
+
+class GraphArea(_Draft):
+    """A node of the scene graph: an area with its member objects."""
+
+    name: str
+    description: str = ""
+    rules: list[AreaRuleDraft] = Field(default_factory=list)
+    objects: list[str] = Field(default_factory=list, description="Ids of the area's objects.")
+
+
+class SupportEdge(_Draft):
+    """A parent-child bond: ``object`` rests on top of ``parent``."""
+
+    object: str
+    parent: str
+
+
+class SceneGraphStep(_Draft):
+    """Step 3: the scene graph: areas -> objects, and objects resting on others."""
+
+    areas: list[GraphArea] = Field(default_factory=list)
+    support: list[SupportEdge] = Field(default_factory=list)
+
+
+class DecorStep(_Draft):
+    """Step 4: secondary decorative items and their rules."""
+
+    objects: list[ObjectDraft] = Field(default_factory=list, max_length=MAX_OBJECTS)
+    rules: list[RuleDraft] = Field(default_factory=list)
+
+
+class PlanObjectDraft(ObjectDraft):
+    """An object of a whole plan, with its decor flag."""
+
+    decor: bool = False
+
+
+class PlanAreaDraft(AreaDraft):
+    """A functional area of a whole plan, with its area rules."""
+
+    rules: list[AreaRuleDraft] = Field(default_factory=list)
+
+
+class PlanDraft(_Draft):
+    """A whole plan (the self-check step's corrected version)."""
+
+    name: str
+    description: str = ""
+    room: RoomDraft
+    areas: list[PlanAreaDraft] = Field(default_factory=list)
+    objects: list[PlanObjectDraft] = Field(min_length=1, max_length=3 * MAX_OBJECTS)
+    rules: list[RuleDraft] = Field(default_factory=list)
+
+
+class SelfCheckStep(_Draft):
+    """Step 5: the model's own check; ``plan`` is the corrected plan, or null if none needed."""
+
+    issues: list[str] = Field(default_factory=list,
+                              description="Logical problems found; empty if none.")
+    plan: PlanDraft | None = Field(None, description="The corrected plan, or null.")
+
+
+class PromptList(_Draft):
+    """Distinct descriptive prompts for one room type."""
+
+    prompts: list[str] = Field(min_length=1)
+
+
+class ReplyError(ValueError):
+    """A reply that is not the JSON object the step asked for.
+
+    Attributes
+    ----------
+    problems : list of str
+        What is wrong, each starting with the JSON path in the reply.
+    """
+
+    def __init__(self, problems: list[str]):
+        self.problems = list(problems)
+        super().__init__("; ".join(self.problems))
+
+
+_FENCE = re.compile(r"```(?:json|JSON)?\s*\n?(.*?)```", re.DOTALL)
+
+
+def _loc(loc: tuple[Any, ...]) -> str:
+    out = ""
+    for part in loc:
+        out += f"[{part}]" if isinstance(part, int) else ("." if out else "") + str(part)
+    return out or "(reply)"
+
+
+def parse_reply(text: str, model: type[_Draft]) -> Any:
+    """Parse a reply as JSON (cutting out code fences and prose) and validate it.
+
+    The text is only ever parsed as JSON data, never evaluated.
+
+    Parameters
+    ----------
+    text : str
+        The reply.
+    model : pydantic model class
+        The step's model.
+
+    Returns
+    -------
+    model instance
+
+    Raises
+    ------
+    ReplyError
+        If the text holds no JSON object or it does not match the model.
+    """
+    if len(text) > MAX_REPLY_CHARS:
+        raise ReplyError([f"(reply): {len(text)} characters is longer than the limit of "
+                          f"{MAX_REPLY_CHARS}; answer with the JSON object only"])
+    body = text.strip()
+    fence = _FENCE.search(body)
+    if fence:
+        body = fence.group(1).strip()
+    if not body.startswith("{"):
+        start, end = body.find("{"), body.rfind("}")
+        if start < 0 or end <= start:
+            raise ReplyError(["(reply): no JSON object found; answer with one JSON object "
+                              "only, no prose"])
+        body = body[start:end + 1]
+    try:
+        data = json.loads(body)
+    except json.JSONDecodeError as e:
+        raise ReplyError([f"(reply): not valid JSON: {e.msg} at line {e.lineno} column "
+                          f"{e.colno}"]) from None
+    if not isinstance(data, dict):
+        raise ReplyError([f"(reply): expected a JSON object, got {type(data).__name__}"])
+    try:
+        return model.model_validate(data)
+    except ValidationError as e:
+        raise ReplyError([f"{_loc(err['loc'])}: {err['msg']}" for err in e.errors()]) from None
+
+
+def schema_for(model: type[_Draft], rule_names: list[str] | None = None) -> dict[str, Any]:
+    """JSON Schema of a step model, with rule names limited to ``rule_names``.
+
+    Parameters
+    ----------
+    model : pydantic model class
+        The step's model.
+    rule_names : list of str, optional
+        Allowed values of every ``rule`` field (an ``enum``); no limit if None.
+    """
+    schema = copy.deepcopy(model.model_json_schema())
+    if rule_names:
+        for name in ("RuleDraft", "AreaRuleDraft"):
+            prop = schema.get("$defs", {}).get(name, {}).get("properties", {}).get("rule")
+            if prop is not None:
+                prop["enum"] = list(rule_names)
+    return schema

@@ -1,0 +1,341 @@
+"""The LLM planner against a real local HTTP server that speaks chat completions.
+
+No network: every test talks to :class:`fake_openai.FakeChatServer` on
+127.0.0.1, through the unchanged ``openai`` SDK, or replays a recording.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import subprocess
+import sys
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from fake_openai import (
+    DECOR,
+    GRAPH,
+    OBJECTS,
+    FakeChatServer,
+    bedroom_script,
+    with_unknown_rule,
+)
+from forcelayout import Plan
+from forcelayout.errors import MissingExtraError
+from forcelayout.llm import (
+    DEFAULT_TEMPLATES,
+    LLMRequestError,
+    OpenAIChatClient,
+    Planner,
+    PlanningError,
+    RecordingClient,
+    ReplayClient,
+    ReplayError,
+    make_client,
+    plan_from_prompt,
+)
+from forcelayout.rules import Rule, register, unregister
+
+PROMPT = "a student's bedroom"
+SECRET = "sk-test-secret-0123456789"
+
+
+@pytest.fixture
+def server(request):
+    """A scripted server; the script comes from ``script(...)`` (indirect parametrization)."""
+    srv = FakeChatServer(getattr(request, "param", None) or bedroom_script())
+    yield srv
+    srv.close()
+
+
+def script(replies):
+    """Run the test against a server answering with ``replies``."""
+    return pytest.mark.parametrize("server", [replies], indirect=True, ids=["scripted"])
+
+
+def client_for(srv: FakeChatServer, **kw) -> OpenAIChatClient:
+    kw.setdefault("timeout", 2.0)
+    return OpenAIChatClient(base_url=srv.url, model="fake-model", api_key=SECRET,
+                            max_retries=0, **kw)
+
+
+def test_import_optional_names_the_extra():
+    from forcelayout._optional import import_optional
+
+    with pytest.raises(ImportError, match=r'pip install "forcelayout\[llm\]"') as info:
+        import_optional("no_such_module_for_forcelayout", "llm")
+    assert isinstance(info.value, MissingExtraError)
+
+
+def test_llm_without_openai_raises_import_error_naming_the_extra():
+    code = ("import sys; sys.modules['openai'] = None\n"
+            "try:\n    import forcelayout.llm\nexcept ImportError as e:\n    print(e)\n"
+            "else:\n    print('imported')")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=60).stdout
+    assert 'pip install "forcelayout[llm]"' in out
+
+
+def test_five_steps_give_a_valid_plan_with_structured_output(server):
+    plan = Planner(client_for(server)).plan(PROMPT)
+    assert isinstance(plan, Plan)
+    assert plan.ids == ["bed", "nightstand_1", "desk", "desk_chair", "plant"]
+    assert plan.object("plant").decor and not plan.object("bed").decor
+    assert plan.object("bed").area == "sleeping"
+    assert [a.name for a in plan.areas] == ["sleeping", "work"]
+    assert plan.areas[0].rules[0].rule == "at_wall"
+    assert len(server.requests) == 5 and server.remaining == 0
+    fmt = server.requests[1]["response_format"]
+    assert fmt["type"] == "json_schema" and fmt["json_schema"]["name"] == "objects"
+    enum = fmt["json_schema"]["schema"]["$defs"]["RuleDraft"]["properties"]["rule"]["enum"]
+    assert {"at_wall", "next_to"} <= set(enum)
+    assert all(r["model"] == "fake-model" for r in server.requests)
+    # the plan so far is shown to later steps
+    assert '"bed"' in server.requests[2]["messages"][-1]["content"]
+
+
+@script(bedroom_script(decor=False, check=False))
+def test_no_decor_and_no_self_check_skip_their_steps(server):
+    plan = Planner(client_for(server), decor=False, self_check=False).plan(PROMPT)
+    assert len(server.requests) == 3
+    assert not any(o.decor for o in plan.objects)
+
+
+@script(bedroom_script()[:1] + ["```json\n{\"objects\": [ {\"id\": ]\n```"]
+                    + bedroom_script()[1:])
+def test_malformed_json_is_fed_back_and_retried(server):
+    planner = Planner(client_for(server))
+    plan = planner.plan(PROMPT)
+    assert "bed" in plan.ids
+    assert [a.step for a in planner.failed_attempts] == ["objects"]
+    repair = server.requests[2]["messages"]
+    assert repair[-2]["role"] == "assistant" and "not valid JSON" in repair[-1]["content"]
+
+
+@script(bedroom_script()[:1] + [with_unknown_rule()] + bedroom_script()[1:])
+def test_unknown_rule_is_fed_back_with_its_path(server):
+    planner = Planner(client_for(server))
+    planner.plan(PROMPT)
+    feedback = server.requests[2]["messages"][-1]["content"]
+    assert "rules[1] (beside)" in feedback and "unknown rule 'beside'" in feedback
+
+
+def _objects_with_huge_wardrobe() -> str:
+    bad = json.loads(json.dumps(OBJECTS))
+    bad["objects"].append({"id": "wardrobe", "category": "wardrobe", "size": [9.0, 0.6, 2.0]})
+    return json.dumps(bad)
+
+
+@script(bedroom_script()[:1] + [_objects_with_huge_wardrobe()]
+                    + bedroom_script()[1:])
+def test_object_that_cannot_fit_is_fed_back(server):
+    Planner(client_for(server)).plan(PROMPT)
+    feedback = server.requests[2]["messages"][-1]["content"]
+    assert "objects[4].size" in feedback and "larger than the room" in feedback
+
+
+def _decor_clashing_id() -> str:
+    bad = json.loads(json.dumps(DECOR))
+    bad["rules"].append({"rule": "next_to", "object": "lamp", "target": "bed"})
+    return json.dumps(bad)
+
+
+@script(bedroom_script()[:3] + [_decor_clashing_id()] + bedroom_script()[3:])
+def test_decor_problems_name_paths_in_the_decor_reply(server):
+    Planner(client_for(server)).plan(PROMPT)
+    feedback = server.requests[4]["messages"][-1]["content"]
+    # rules[4] of the plan is rules[1] of the decor reply
+    assert "rules[1] (next_to).object: unknown object 'lamp'" in feedback
+
+
+def _graph_with_unknown_member() -> str:
+    bad = json.loads(json.dumps(GRAPH))
+    bad["areas"][0]["objects"].append("bedd")
+    return json.dumps(bad)
+
+
+@script(bedroom_script()[:2] + [_graph_with_unknown_member()]
+                    + bedroom_script()[2:])
+def test_scene_graph_problems_are_fed_back(server):
+    Planner(client_for(server)).plan(PROMPT)
+    feedback = server.requests[3]["messages"][-1]["content"]
+    assert "areas[0].objects[2]: unknown object 'bedd'. Did you mean 'bed'?" in feedback
+
+
+@script(bedroom_script()[:1] + [{"delay": 3.0, "content": "{}"}]
+                    + bedroom_script()[1:])
+def test_slow_reply_times_out_and_is_retried(server):
+    planner = Planner(client_for(server, timeout=0.5))
+    plan = planner.plan(PROMPT)
+    assert "desk" in plan.ids
+    (failure,) = planner.failed_attempts
+    assert failure.step == "objects" and "no reply within 0.5 s" in failure.reason
+
+
+@script(bedroom_script()[:1] + [{"status": 500, "message": "overloaded"}]
+                    + bedroom_script()[1:])
+def test_http_500_is_retried(server):
+    planner = Planner(client_for(server))
+    planner.plan(PROMPT)
+    (failure,) = planner.failed_attempts
+    assert "HTTP 500" in failure.reason and "overloaded" in failure.reason
+
+
+@script(bedroom_script()[:1] + ["not json", "{\"objects\": []}",
+                                            {"status": 502, "message": "bad gateway"}])
+def test_final_failure_carries_every_attempts_reason(server):
+    with pytest.raises(PlanningError) as info:
+        Planner(client_for(server), max_attempts=3).plan(PROMPT)
+    err = info.value
+    assert err.step == "objects" and len(err.attempts) == 3
+    text = str(err)
+    assert "no JSON object found" in text
+    assert "objects: List should have at least 1 item" in text
+    assert "HTTP 502" in text
+
+
+@script([{"status": 401, "message": f"Incorrect API key provided: {SECRET}"}])
+def test_api_key_never_shows(server, tmp_path, caplog):
+    caplog.set_level(logging.DEBUG)
+    client = client_for(server)
+    rec = RecordingClient(client, tmp_path / "run.jsonl")
+    with pytest.raises(PlanningError) as info:
+        Planner(rec).plan(PROMPT)
+    # not worth retrying: one attempt only
+    assert len(info.value.attempts) == 1 and "HTTP 401" in str(info.value)
+    auth = {k.lower(): v for k, v in server.headers[0].items()}["authorization"]
+    assert auth == f"Bearer {SECRET}"  # sent to the server only
+    for text in (str(info.value), repr(client), repr(rec), repr(Planner(rec)),
+                 (tmp_path / "run.jsonl").read_text(), caplog.text):
+        assert SECRET not in text
+
+
+def test_server_without_structured_output_gets_json_in_text():
+    with FakeChatServer(bedroom_script(), json_schema=False) as srv:
+        client = client_for(srv)
+        plan = Planner(client).plan(PROMPT)
+        assert "bed" in plan.ids and client.structured == "none"
+        assert all("response_format" not in r for r in srv.requests)
+        # the schema is still in the prompt text
+        assert '"RuleDraft"' in srv.requests[1]["messages"][-1]["content"]
+
+
+def test_replay_of_a_recorded_run_gives_the_identical_plan(tmp_path):
+    script = bedroom_script()
+    script.insert(1, "Here you go:\n```json\n" + with_unknown_rule() + "\n```")
+    script.insert(3, {"status": 500, "message": "flaky"})
+    path = tmp_path / "run.jsonl"
+    with FakeChatServer(script) as srv:
+        recorded = plan_from_prompt(PROMPT, record=path, base_url=srv.url, api_key=SECRET,
+                                    timeout=2.0, max_retries=0)
+    lines = [json.loads(x) for x in path.read_text().splitlines()]
+    assert [x["name"] for x in lines] == ["room", "objects", "objects", "scene_graph",
+                                          "scene_graph", "decor", "self_check"]
+    assert "error" in lines[3]
+    replayed = plan_from_prompt(PROMPT, replay=path)  # no server
+    assert replayed.to_json() == recorded.to_json()
+    strict = Planner(ReplayClient(path, strict=True)).plan(PROMPT)
+    assert strict.to_json() == recorded.to_json()
+
+
+def test_replay_reports_a_run_that_does_not_match(tmp_path):
+    with FakeChatServer(bedroom_script()) as srv:
+        plan_from_prompt(PROMPT, record=tmp_path / "run.jsonl", base_url=srv.url,
+                         timeout=2.0, max_retries=0)
+    # without the decor step, the recording's 4th reply is for another step
+    with pytest.raises(ReplayError, match="recorded step 'decor'"):
+        Planner(ReplayClient(tmp_path / "run.jsonl"), decor=False).plan(PROMPT)
+    short = tmp_path / "short.jsonl"
+    short.write_text("\n".join(tmp_path.joinpath("run.jsonl").read_text().splitlines()[:2]))
+    with pytest.raises(ReplayError, match="holds 2 replies"):
+        Planner(ReplayClient(short)).plan(PROMPT)
+    with pytest.raises(ReplayError, match="strict replay"):
+        Planner(ReplayClient(tmp_path / "run.jsonl", strict=True)).plan("a kitchen")
+
+
+def test_a_plugin_rule_is_offered_and_usable():
+    @register("near_plant_llm_test")
+    class NearPlant(Rule):
+        """Within reach of a plant, for watering it (test plugin)."""
+
+        kind = "binary"
+
+        def force(self, state, i, j, p):
+            return np.zeros((len(i), 2)), np.zeros(len(i))
+
+        def satisfied(self, state, i, j, p):
+            return np.ones(len(i), dtype=bool)
+
+    objects = json.loads(json.dumps(OBJECTS))
+    objects["rules"].append({"rule": "near_plant_llm_test", "object": "desk_chair",
+                             "target": "bed"})
+    script = bedroom_script()
+    script[1] = json.dumps(objects)
+    try:
+        with FakeChatServer(script) as srv:
+            plan = Planner(client_for(srv)).plan(PROMPT)
+            text = srv.requests[1]["messages"][-1]["content"]
+            schema = srv.requests[1]["response_format"]["json_schema"]["schema"]
+    finally:
+        unregister("near_plant_llm_test")
+    assert "- near_plant_llm_test: Within reach of a plant" in text
+    assert "near_plant_llm_test" in schema["$defs"]["RuleDraft"]["properties"]["rule"]["enum"]
+    assert any(r.rule == "near_plant_llm_test" for r in plan.rules)
+
+
+def test_a_registered_rule_outside_the_offered_pattern_is_refused():
+    script = bedroom_script()
+    script.insert(2, script[1])  # same objects again; refused, then retried with feedback
+    with FakeChatServer(script) as srv:
+        with pytest.raises(PlanningError, match="not one of the rules offered"):
+            Planner(client_for(srv), rules="at_*", max_attempts=2).plan(PROMPT)
+
+
+def test_templates_can_be_overridden():
+    templates = replace(DEFAULT_TEMPLATES, objects="LIST FURNITURE for $prompt using\n"
+                                                   "$vocabulary\n$schema")
+    with FakeChatServer(bedroom_script()) as srv:
+        Planner(client_for(srv), templates=templates).plan(PROMPT)
+        text = srv.requests[1]["messages"][-1]["content"]
+    assert text.startswith("LIST FURNITURE for a student's bedroom using")
+    bad = replace(DEFAULT_TEMPLATES, room="$nonsense")
+    with pytest.raises(ValueError, match=r"uses \$nonsense"):
+        Planner(make_client(replay=_example_recording()), templates=bad).plan(PROMPT)
+
+
+def test_self_check_correction_replaces_the_plan():
+    merged = {**json.loads(bedroom_script()[0]), "objects": OBJECTS["objects"],
+              "rules": OBJECTS["rules"]}
+    merged["objects"] = [*merged["objects"][:3]]           # drop the chair ...
+    merged["rules"] = merged["rules"][:3]                   # ... and its rule
+    check = json.dumps({"issues": ["the chair is not needed"], "plan": merged})
+    script = bedroom_script(check=False) + [check]
+    with FakeChatServer(script) as srv:
+        plan = Planner(client_for(srv)).plan(PROMPT)
+    assert plan.ids == ["bed", "nightstand_1", "desk"]
+
+
+def test_client_needs_a_key_or_a_server(monkeypatch):
+    monkeypatch.delenv("OPENAI_API_KEY", raising=False)
+    monkeypatch.delenv("OPENAI_BASE_URL", raising=False)
+    with pytest.raises(LLMRequestError, match="OPENAI_API_KEY"):
+        OpenAIChatClient()
+    monkeypatch.setenv("OPENAI_BASE_URL", "http://127.0.0.1:9/v1")
+    monkeypatch.setenv("FORCELAYOUT_LLM_MODEL", "qwen-test")
+    client = OpenAIChatClient()
+    assert client.base_url == "http://127.0.0.1:9/v1" and client.model == "qwen-test"
+
+
+def _example_recording():
+    from pathlib import Path
+
+    return Path(__file__).parent.parent / "examples" / "data" / "llm_bedroom.jsonl"
+
+
+def test_the_shipped_example_recording_replays():
+    planner = Planner(make_client(replay=_example_recording()))
+    plan = planner.plan(PROMPT)
+    assert "bed" in plan.ids and len(planner.failed_attempts) == 1

@@ -1,0 +1,82 @@
+"""The evaluation scripts run end to end in their smallest mode and print valid JSON."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+BENCH = ROOT / "benchmarks"
+
+TINY_PLAN = {
+    "name": "tiny",
+    "room": {"polygon": [[0, 0], [3.5, 0], [3.5, 3], [0, 3]], "height": 2.6,
+             "doors": [{"wall": 0, "offset": 0.8, "width": 0.9}]},
+    "objects": [
+        {"id": "bed", "category": "bed", "size": [1.4, 2.0, 0.5], "primary": True},
+        {"id": "nightstand", "category": "nightstand", "size": [0.4, 0.4, 0.5]},
+        {"id": "plant", "category": "plant", "size": [0.3, 0.3, 0.8], "decor": True},
+    ],
+    "rules": [{"rule": "at_wall", "object": "bed"},
+              {"rule": "next_to", "object": "nightstand", "target": "bed"}],
+}
+
+
+def run(script: str, *args: str) -> tuple[dict, str]:
+    proc = subprocess.run([sys.executable, str(BENCH / script), *args], capture_output=True,
+                          text=True, timeout=240, cwd=ROOT)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    out = proc.stdout
+    end = out.index("\n}\n") + 3 if "\n}\n" in out else len(out)
+    return json.loads(out[:end]), out[end:]
+
+
+def test_paper_tables_quick(tmp_path: Path) -> None:
+    plan = tmp_path / "tiny.json"
+    plan.write_text(json.dumps(TINY_PLAN))
+    png, out = tmp_path / "tables.png", tmp_path / "tables.json"
+    result, rest = run("paper_tables.py", "--quick", "--n", "3", "--plans", str(plan),
+                       "--resamples", "200", "--markdown", "--png", str(png), "--out", str(out))
+    assert result["benchmark"] == "paper_tables"
+    assert set(result["conditions"]) == {"Full", "-Relations", "-Decor", "Random"}
+    assert result["config"]["plans"] == ["tiny"]
+    for cond in result["conditions"].values():
+        assert cond["samples"] == 3
+        for key in ("validity_pct", "rules_pct", "good_pct", "valid_per_s", "good_per_s",
+                    "geometric_intra", "topological_intra", "relational_intra"):
+            ci = cond[key]
+            assert set(ci) >= {"estimate", "low", "high", "level"}
+            if ci["estimate"] is not None:
+                assert ci["low"] <= ci["estimate"] + 1e-9 <= ci["high"] + 2e-9
+        assert 0 <= cond["validity_pct"]["estimate"] <= 100
+        assert cond["per_plan"][0]["plan"] == "tiny"
+    assert "Table I" in rest and "| Random |" in rest
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert json.loads(out.read_text()) == result
+
+
+def test_scaling_quick(tmp_path: Path) -> None:
+    png = tmp_path / "scaling.png"
+    result, rest = run("scaling.py", "--sizes", "3", "6", "--samples", "1", "--markdown",
+                       "--png", str(png))
+    assert result["benchmark"] == "scaling"
+    assert [r["objects"] for r in result["results"]] == [3, 6]
+    for r in result["results"]:
+        assert r["ms_per_layout"]["median"] > 0 and r["peak_mib"] > 0
+        assert r["median_steps"] >= 1
+    assert isinstance(result["exponent_per_layout"], float)
+    assert "| objects |" in rest
+    assert png.read_bytes()[:4] == b"\x89PNG"
+
+
+@pytest.mark.parametrize("script", ["paper_tables.py", "scaling.py"])
+def test_scripts_reject_bad_arguments(script: str) -> None:
+    bad = ["--n", "0"] if script == "paper_tables.py" else ["--samples", "0"]
+    proc = subprocess.run([sys.executable, str(BENCH / script), *bad], capture_output=True,
+                          text=True, timeout=60, cwd=ROOT)
+    assert proc.returncode == 2
+    assert "must be >= 1" in proc.stderr

@@ -256,3 +256,9 @@ def test_translating_a_whole_scene_keeps_the_verdict(dx, dy):
         assert moved.ok == base.ok
         assert moved.failures == base.failures
         assert abs(moved.free_fraction - base.free_fraction) < 0.01
+
+
+def test_ceiling_object_poking_out_of_the_room():
+    rep = check_layout(bedroom(light=Pose(3.9, 2.0, 0.0, 2.55, "ceiling")))
+    fails = of(rep, "surface")
+    assert len(fails) == 1 and "'light'" in fails[0] and "ceiling" in fails[0]

@@ -226,10 +226,8 @@ def _collisions(ids: list[str], pos: np.ndarray, right: np.ndarray, front: np.nd
             for a, b, s in zip(i[bad], j[bad], area[bad], strict=True)]
 
 
-def _outside(ids: list[str], corners: np.ndarray, polys: np.ndarray, room,
-             max_overlap: float) -> list[str]:
-    if not ids:
-        return []
+def _surely_inside(corners: np.ndarray, room) -> np.ndarray:
+    """Footprints certainly inside the floor: all corners inside, no wall vertex inside them."""
     inside = room.contains(corners).all(-1)  # (N,)
     # a wall vertex strictly inside a footprint means the floor cuts into it
     rel = room.polygon[None, :, :] - corners.mean(1)[:, None, :]  # (N, V, 2)
@@ -240,7 +238,14 @@ def _outside(ids: list[str], corners: np.ndarray, polys: np.ndarray, room,
     u = np.abs((rel * ax[:, None, :]).sum(-1)) / np.maximum(2 * hx[:, None], 1e-12)
     v = np.abs((rel * ay[:, None, :]).sum(-1)) / np.maximum(2 * hy[:, None], 1e-12)
     vertex_in = ((u < hx[:, None] - 1e-9) & (v < hy[:, None] - 1e-9)).any(-1)
-    cand = np.nonzero(~inside | vertex_in)[0]
+    return inside & ~vertex_in
+
+
+def _outside(ids: list[str], corners: np.ndarray, polys: np.ndarray, room,
+             max_overlap: float) -> list[str]:
+    if not ids:
+        return []
+    cand = np.nonzero(~_surely_inside(corners, room))[0]
     if len(cand) == 0:
         return []
     area = shapely.area(shapely.difference(polys[cand], room.shape))
@@ -268,6 +273,13 @@ def _doors(ids: list[str], pos: np.ndarray, right: np.ndarray, front: np.ndarray
             for a, b in zip(k[bad], d[bad], strict=True)]
 
 
+def _pose_corners(layout: Layout, oid: str) -> np.ndarray:
+    p = layout.poses[oid]
+    yaw = np.array([p.yaw])
+    return _corners(np.array([[p.x, p.y]]), right_vectors(yaw), front_vectors(yaw),
+                    0.5 * np.array([layout.plan.object(oid).size[:2]], dtype=float))[0]
+
+
 def _surfaces(layout: Layout, max_overlap: float) -> list[str]:
     out: list[str] = []
     poses = layout.poses
@@ -276,24 +288,27 @@ def _surfaces(layout: Layout, max_overlap: float) -> list[str]:
     off = [oid for oid in layout.ids() if poses[oid].surface != "floor"]
     for oid in off:  # one pass over the off-floor objects; each test is O(1) or one shapely op
         p = poses[oid]
-        obj = plan.object(oid)
         surf = p.surface
-        fp = shapely.Polygon(_corners(np.array([[p.x, p.y]]), right_vectors(np.array([p.yaw])),
-                                      front_vectors(np.array([p.yaw])),
-                                      0.5 * np.array([obj.size[:2]]))[0])
         if surf == "ceiling":
-            a = shapely.area(shapely.difference(fp, room.shape))
+            c = _pose_corners(layout, oid)
+            if _surely_inside(c[None], room)[0]:
+                continue
+            a = shapely.area(shapely.difference(shapely.Polygon(c), room.shape))
             if a > max_overlap:
                 out.append(f"surface: {oid!r} on the ceiling pokes {_area(a)} m² out of the room")
         elif surf.startswith("wall:"):
-            out += _wall_surface(oid, p, obj.size, surf, room)
+            out += _wall_surface(oid, p, plan.object(oid).size, surf, room)
         elif surf in poses:
-            q = poses[surf]
-            parent = plan.object(surf)
-            top = shapely.Polygon(_corners(
-                np.array([[q.x, q.y]]), right_vectors(np.array([q.yaw])),
-                front_vectors(np.array([q.yaw])), 0.5 * np.array([parent.size[:2]]))[0])
-            a = shapely.area(shapely.difference(fp, top))
+            c = _pose_corners(layout, oid)
+            top = _pose_corners(layout, surf)
+            # the parent's top is convex: inside when every corner of the child is
+            ex, ey = top[1] - top[0], top[3] - top[0]
+            rel = c - top.mean(0)
+            u = np.abs(rel @ ex) / max(float(ex @ ex), 1e-18)
+            v = np.abs(rel @ ey) / max(float(ey @ ey), 1e-18)
+            if (u <= 0.5 + 1e-9).all() and (v <= 0.5 + 1e-9).all():
+                continue
+            a = shapely.area(shapely.difference(shapely.Polygon(c), shapely.Polygon(top)))
             if a > max_overlap:
                 out.append(f"surface: {oid!r} overhangs the top of {surf!r} by {_area(a)} m²")
         elif surf in plan.ids:

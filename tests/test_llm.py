@@ -339,3 +339,18 @@ def test_the_shipped_example_recording_replays():
     planner = Planner(make_client(replay=_example_recording()))
     plan = planner.plan(PROMPT)
     assert "bed" in plan.ids and len(planner.failed_attempts) == 1
+
+
+def test_support_bonds_of_the_scene_graph_become_on_top_rules():
+    objects = json.loads(json.dumps(OBJECTS))
+    objects["objects"].append({"id": "lamp", "category": "lamp", "size": [0.2, 0.2, 0.35],
+                               "area": "sleeping"})
+    graph = json.loads(json.dumps(GRAPH))
+    graph["support"] = [{"object": "lamp", "parent": "nightstand_1"}]
+    script = bedroom_script()
+    script[1], script[2] = json.dumps(objects), json.dumps(graph)
+    with FakeChatServer(script) as srv:
+        plan = Planner(client_for(srv)).plan(PROMPT)
+    assert plan.surface_of("lamp") == "on_top"
+    assert [(r.object, r.target) for r in plan.rules if r.rule == "on_top"] == [
+        ("lamp", "nightstand_1")]

@@ -144,11 +144,19 @@ def _relabel(path: str, offsets: dict[str, tuple[int, str]]) -> str:
     return f"{label}[{k - off}]{m.group(3)}"
 
 
+_CLI_HINT = re.compile(r"\s*Run `forcelayout rules`.*$", re.DOTALL)
+
+
+def _for_model(message: str) -> str:
+    """A plan problem's message as advice to the model (no command-line hints)."""
+    return _CLI_HINT.sub(" Use only the listed rules.", message)
+
+
 def _validate(draft: Draft, offsets: dict[str, tuple[int, str]] | None = None) -> Plan:
     try:
         return Plan.from_dict(draft)
     except PlanError as e:
-        raise _Problems([f"{_relabel(p.path, offsets or {})}: {p.message}"
+        raise _Problems([f"{_relabel(p.path, offsets or {})}: {_for_model(p.message)}"
                          for p in e.problems]) from None
 
 
@@ -457,7 +465,7 @@ class Planner:
         try:
             Plan.from_dict(new)
         except PlanError as e:
-            problems.extend(f"plan.{q.path}: {q.message}" for q in e.problems)
+            problems.extend(f"plan.{q.path}: {_for_model(q.message)}" for q in e.problems)
         if problems:
             raise _Problems(_dedupe(problems))
         return new

@@ -2,8 +2,8 @@
 
 Each binding places object ``i`` relative to target ``j``. Forces act on
 ``i``; a rule's ``reaction`` says what fraction of that force pushes back on
-the target. Distances in forces use the fast separating-axis clearance
-(:meth:`State.separation`), the checks use the exact footprint gap
+the target. Distances in forces use a fast estimate of the footprint gap
+(exact for parallel footprints), the checks use the exact gap
 (:meth:`State.gap`). Directions "front", "left" and "right" are the
 *target's*: its local +y, -x and +x (left and right as seen by someone
 standing behind the target, looking where it faces).
@@ -50,6 +50,25 @@ def _facing_error(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
     return _signed_angle(state.front[i], u)
 
 
+def _gap_estimate(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """Fast estimate of the footprint gap between ``i`` and ``j``, metres.
+
+    Combines the clearances along the two axes of footprint ``i`` as for
+    axis-aligned boxes (exact when the two footprints are parallel, the usual
+    case once objects settle at cardinal angles), and never less than the
+    separating-axis clearance :meth:`State.separation` (a lower bound).
+    Negative values are overlap depths.
+    """
+    d = state.pos[j] - state.pos[i]
+    f, r = state.front[i], state.right[i]
+    si = state.size[i]
+    g1 = np.abs((d * r).sum(1)) - 0.5 * si[:, 0] - _extent(state, j, r)
+    g2 = np.abs((d * f).sum(1)) - 0.5 * si[:, 1] - _extent(state, j, f)
+    p1, p2 = np.maximum(g1, 0.0), np.maximum(g2, 0.0)
+    est = np.where((g1 > 0) & (g2 > 0), np.sqrt(p1 * p1 + p2 * p2), np.maximum(g1, g2))
+    return np.maximum(est, state.separation(i, j))
+
+
 class _Distance(Rule):
     """Shared pull towards the target while the gap exceeds a bound."""
 
@@ -58,8 +77,8 @@ class _Distance(Rule):
 
     def _pull(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays, target):
         u, _ = _unit(state.pos[j] - state.pos[i])
-        sep = state.separation(i, j)
-        return u * (p.weight * _ramp(sep - target))[:, None], np.zeros(len(i))
+        gap = _gap_estimate(state, i, j)
+        return u * (p.weight * _ramp(gap - target))[:, None], np.zeros(len(i))
 
 
 class NextTo(_Distance):
@@ -86,7 +105,7 @@ class Near(_Distance):
         distance: float = Field(1.0, gt=0, description="Largest footprint gap, m.")
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
-        return self._pull(state, i, j, p, p.distance - np.minimum(0.3, 0.3 * p.distance))
+        return self._pull(state, i, j, p, p.distance - np.minimum(0.1, 0.3 * p.distance))
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         return state.gap(i, j) <= p.distance
@@ -107,9 +126,17 @@ class FarFrom(Rule):
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         u, _ = _unit(state.pos[i] - state.pos[j])
-        sep = state.separation(i, j)
-        target = p.distance + np.minimum(0.3, 0.1 * p.distance)
-        return u * (p.weight * _ramp(target - sep))[:, None], np.zeros(len(i))
+        target = p.distance + 0.1
+        gap = _gap_estimate(state, i, j)  # a lower bound
+        # an upper bound: the gap between the footprints' inscribed circles
+        d = state.pos[i] - state.pos[j]
+        upper = np.sqrt((d * d).sum(1)) - 0.5 * (state.size[i, :2].min(1)
+                                                 + state.size[j, :2].min(1))
+        unsure = (gap < target) & (upper > gap + 1e-3)
+        if unsure.any():  # refine with the exact gap only where the bounds disagree
+            gap = gap.copy()
+            gap[unsure] = state.gap(i[unsure], j[unsure])
+        return u * (p.weight * _ramp(target - gap))[:, None], np.zeros(len(i))
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         return state.gap(i, j) >= p.distance
@@ -209,12 +236,13 @@ class _Side(Rule):
         w = p.weight
         ext_v = _extent(state, i, v)
         on_side = a > hu
-        # along u: stay between touching and 70% of the allowed gap
-        hi = np.minimum(0.7 * p.distance, p.distance - 0.05)
+        # along u: stay between touching and a little less than the allowed gap
+        hi = p.distance - np.minimum(0.1, 0.5 * p.distance)
         fu = np.clip((np.maximum(0.02 - gap, 0.0) - np.maximum(gap - hi, 0.0)) * GAIN, -CAP, CAP)
         fu = np.where(on_side, fu, CAP * 0.5)
         # along v: onto the centre line when on the side, else around the target
-        band = 0.5 * (hv + p.lateral)
+        band = hv + p.lateral
+        band = band - np.minimum(0.1, 0.5 * band)
         sgn = np.where(lat >= 0.0, 1.0, -1.0)
         inward = -sgn * _ramp(np.abs(lat) - band)
         around = sgn * _ramp(hv + ext_v + 0.05 - np.abs(lat))
@@ -335,8 +363,8 @@ class Around(Rule):
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         w = p.weight
         u, _ = _unit(state.pos[j] - state.pos[i])  # towards the target
-        sep = state.separation(i, j)
-        f = u * (w * _ramp(sep - 0.5 * p.distance))[:, None]
+        gap = _gap_estimate(state, i, j)
+        f = u * (w * _ramp(gap - p.distance + np.minimum(0.1, 0.5 * p.distance)))[:, None]
         b = len(i)
         if b > 1:  # spread: push apart the angular positions around a shared target
             theta = np.arctan2(-u[:, 1], -u[:, 0])

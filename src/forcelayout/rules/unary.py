@@ -13,6 +13,8 @@ them); the object's front is its local +y.
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 from pydantic import Field
 
@@ -39,9 +41,11 @@ def _signed_angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def _extent(state: State, i: np.ndarray, u: np.ndarray) -> np.ndarray:
     """Half extent of footprints ``i`` along unit directions ``u`` (B, 2), metres."""
-    h = state.half[i]
-    return (np.abs((state.front[i] * u).sum(1)) * h[:, 1]
-            + np.abs((state.right[i] * u).sum(1)) * h[:, 0])
+    f, h = state.front[i], state.size[i]
+    fx, fy, ux, uy = f[:, 0], f[:, 1], u[:, 0], u[:, 1]
+    # right = (fy, -fx)
+    return (np.abs(fx * ux + fy * uy) * (0.5 * h[:, 1])
+            + np.abs(fy * ux - fx * uy) * (0.5 * h[:, 0]))
 
 
 def _unit(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -67,16 +71,23 @@ def _wall_pull(state: State, i: np.ndarray, wall: np.ndarray, w: np.ndarray,
     return -n * (w * _ramp(gap + inside))[:, None]
 
 
+_CORNERS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def _convex_corners(state: State) -> tuple[np.ndarray, np.ndarray]:
-    """Indices ``k`` of convex room vertices and their positions (K, 2).
+    """Indices ``k`` of convex room vertices and their positions (K, 2), cached per room.
 
     Vertex ``k`` joins wall ``k - 1`` (ending there) and wall ``k``.
     """
     room = state.room
-    t_prev = np.roll(room.tangent, 1, axis=0)
-    cross = t_prev[:, 0] * room.tangent[:, 1] - t_prev[:, 1] * room.tangent[:, 0]
-    k = np.flatnonzero(cross * np.sign(room.signed_area) > 1e-9)
-    return k, room.polygon[k]
+    hit = _CORNERS.get(room)
+    if hit is None:
+        t_prev = np.roll(room.tangent, 1, axis=0)
+        cross = t_prev[:, 0] * room.tangent[:, 1] - t_prev[:, 1] * room.tangent[:, 0]
+        k = np.flatnonzero(cross * np.sign(room.signed_area) > 1e-9)
+        hit = _CORNERS[room] = (k, room.polygon[k], (k - 1) % room.n_walls,
+                                np.arctan2(room.tangent[k, 1], room.tangent[k, 0]))
+    return hit
 
 
 class AtWall(Rule):
@@ -97,26 +108,30 @@ class AtWall(Rule):
         max_angle: float = Field(10.0, gt=0, le=90,
                                  description="Largest angle between back edge and wall, deg.")
 
-    def _nearest_wall(self, state: State, i: np.ndarray) -> np.ndarray:
-        room = state.room
-        d = state.wall_distance[i]  # (B, W)
-        # prefer walls long enough to take the object's width
-        short = room.length[None, :] < state.size[i, 0:1] * 0.9
-        return np.argmin(d + short * 100.0, axis=1)
-
     def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         room = state.room
-        wall = self._nearest_wall(state, i)
         w = p.weight
-        f = _wall_pull(state, i, wall, w)
-        # slide back along the wall if the centre is beyond its ends
-        t = room.tangent[wall]
-        along = (state.pos[i] * t).sum(1) - room.tangent_offset[wall]
-        half = _extent(state, i, t)
+        f, size = state.front[i], state.size[i]
+        # nearest wall, preferring walls long enough to take the object's width
+        wall = np.argmin(state.wall_distance[i] + (room.length < 0.9 * size[:, :1]) * 100.0,
+                         axis=1)
+        n, t = room.normal[wall], room.tangent[wall]
+        fx, fy, nx, ny = f[:, 0], f[:, 1], n[:, 0], n[:, 1]
+        fn = fx * nx + fy * ny  # front . normal
+        rn = fy * nx - fx * ny  # right . normal
+        hw, hd = 0.5 * size[:, 0], 0.5 * size[:, 1]
+        # pull the footprint onto the wall's line, aiming 1 cm past it (the wall stops it)
+        pos = state.pos[i]
+        gap = (pos * n).sum(1) - room.normal_offset[wall] - np.abs(fn) * hd - np.abs(rn) * hw
+        force = n * (-w * _ramp(gap + 0.01))[:, None]
+        # slide back along the wall if the footprint reaches beyond its ends
+        along = (pos * t).sum(1) - room.tangent_offset[wall]
+        half = np.abs(rn) * hd + np.abs(fn) * hw  # extent along the wall
         out = np.maximum(half - along, 0.0) - np.maximum(along + half - room.length[wall], 0.0)
-        f += t * (w * np.clip(out * GAIN, -CAP, CAP))[:, None]
-        err = _signed_angle(state.front[i], room.normal[wall])
-        return f, w * 0.8 * np.clip(err, -1.5, 1.5)
+        force += t * (w * np.clip(out * GAIN, -CAP, CAP))[:, None]
+        # turn the front to the wall's inward normal
+        err = np.arctan2(-rn, fn)
+        return force, w * 0.8 * np.clip(err, -1.5, 1.5)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         room = state.room
@@ -147,20 +162,17 @@ class InCorner(Rule):
         tolerance: float = Field(0.05, gt=0, description="Largest side-to-wall gap, m.")
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
-        room = state.room
         b = len(i)
-        k, vert = _convex_corners(state)
+        k, vert, prev, angle = _convex_corners(state)
         if len(k) == 0:
             return np.zeros((b, 2)), np.zeros(b)
         d = state.pos[i, None, :] - vert[None, :, :]
-        corner = k[np.argmin((d * d).sum(2), axis=1)]
+        c = np.argmin((d * d).sum(2), axis=1)
         w = p.weight
-        wa = (corner - 1) % room.n_walls
-        f = _wall_pull(state, i, wa, w) + _wall_pull(state, i, corner, w)
-        t = room.tangent[corner]
-        # turn to the nearest multiple of 90 degrees relative to the corner's wall
-        rel = np.arctan2(t[:, 1], t[:, 0]) - state.yaw[i]
-        err = np.arctan2(np.sin(4.0 * rel), np.cos(4.0 * rel)) / 4.0
+        f = _wall_pull(state, i, prev[c], w) + _wall_pull(state, i, k[c], w)
+        # turn to the nearest multiple of 90 degrees relative to the corner's walls
+        rel = 4.0 * (angle[c] - state.yaw[i])
+        err = np.arctan2(np.sin(rel), np.cos(rel)) / 4.0
         return f, w * 0.8 * err
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
@@ -195,7 +207,8 @@ class InMiddle(Rule):
         room = state.room
         ext = room.bounds[2:] - room.bounds[:2]
         d = state.pos[i] - room.centroid
-        limit = 0.6 * p.fraction[:, None] * ext[None, :]
+        limit = p.fraction[:, None] * ext[None, :]
+        limit = limit - np.minimum(0.1, 0.2 * limit)  # aim a little inside
         f = -np.sign(d) * _ramp(np.abs(d) - limit) * p.weight[:, None]
         return f, np.zeros(len(i))
 
@@ -234,7 +247,7 @@ class _NearOpening(Rule):
             return np.zeros((b, 2)), np.zeros(b)
         centre, dist = near
         u, _ = _unit(centre - state.pos[i])
-        target = p.distance - np.minimum(0.3, 0.25 * p.distance)
+        target = p.distance - np.minimum(0.1, 0.25 * p.distance)
         return u * (p.weight * _ramp(dist - target))[:, None], np.zeros(b)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
@@ -290,7 +303,7 @@ class AwayFromDoor(Rule):
         # at a door's centre itself, push straight into the room
         away = np.where((away * away).sum(1, keepdims=True) < 1e-12, doors.normal[k], away)
         u, dist = _unit(away)
-        target = p.distance + np.minimum(0.3, 0.15 * p.distance)
+        target = p.distance + 0.1
         return u * (p.weight * _ramp(target - dist))[:, None], np.zeros(b)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):

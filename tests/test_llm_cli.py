@@ -151,3 +151,15 @@ def test_example_runs_offline_in_replay_mode(tmp_path):
                           cwd=tmp_path, capture_output=True, text=True, timeout=300, env=env)
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert Plan.load(tmp_path / "out" / "plan.json").name == "student_bedroom"
+
+
+def test_run_generate_plans_from_a_prompt_once(tmp_path):
+    from forcelayout.generate_cmd import run_generate
+
+    args = argparse.Namespace(
+        prompt="a student's bedroom", replay=RECORDING, record=None, plan=None,
+        out=tmp_path / "out", n=1, seed=0, workers=1, max_attempts=None, format="none",
+        no_relations=False, no_decor=True, quiet=True)
+    assert run_generate(args) == 0
+    assert Plan.load(tmp_path / "out" / "plan.json").name == "student_bedroom"
+    assert len(list((tmp_path / "out").glob("student_bedroom_*.json"))) == 1

@@ -48,6 +48,8 @@ __all__ = [
     "plans",
     "check_rule",
     "RuleConformanceError",
+    "make_state",
+    "bind",
     "FURNITURE",
     "UNARY_RULES",
     "BINARY_RULES",
@@ -231,6 +233,78 @@ def plans(*, min_objects: int = 1, max_objects: int = 8, rules: bool = True,
                                "objects": objects, "rules": specs})
 
     return _plans()
+
+
+# -- hand-built states for rule tests --------------------------------------------------
+
+
+def make_state(
+    pos: Any,
+    yaw: Any,
+    size: Any,
+    *,
+    room: RoomGeometry | Room | dict[str, Any] | None = None,
+) -> State:
+    """A :class:`~forcelayout.rules.State` from plain lists, for testing rules by hand.
+
+    Parameters
+    ----------
+    pos : array_like, shape (N, 2)
+        Footprint centres, metres.
+    yaw : array_like, shape (N,)
+        Headings, radians CCW (0: front faces +y).
+    size : array_like, shape (N, 2) or (N, 3)
+        ``[width, depth(, height)]`` in metres (height defaults to 1 m).
+    room : RoomGeometry, Room or dict, optional
+        Defaults to a 4 x 3.5 m room with a door on wall 0 (centre (1, 0))
+        and a window on wall 2 (centre (2, 3.5)).
+
+    Examples
+    --------
+    >>> st = make_state([[2.0, 0.3]], [0.0], [[1.0, 0.5]])
+    >>> st.front.round(3).tolist()
+    [[-0.0, 1.0]]
+    """
+    if room is None:
+        room = {"polygon": [[0, 0], [4, 0], [4, 3.5], [0, 3.5]],
+                "doors": [{"wall": 0, "offset": 1.0, "width": 0.9}],
+                "windows": [{"wall": 2, "offset": 2.0, "width": 1.2}]}
+    if isinstance(room, dict):
+        room = Room.model_validate(room)
+    if isinstance(room, Room):
+        room = RoomGeometry.from_room(room)
+    pos = np.asarray(pos, dtype=float).reshape(-1, 2)
+    size = np.asarray(size, dtype=float).reshape(len(pos), -1)
+    if size.shape[1] == 2:
+        size = np.column_stack([size, np.ones(len(pos))])
+    ids = tuple(f"obj_{k}" for k in range(len(pos)))
+    return State(pos, np.asarray(yaw, dtype=float).reshape(len(pos)), size, room, ids)
+
+
+def bind(rule: type[Rule] | Rule | str, n: int = 1, *, weight: float | None = None,
+         **params: Any) -> tuple[Rule, ParamArrays]:
+    """A rule instance and :class:`~forcelayout.rules.ParamArrays` for ``n`` bindings.
+
+    Parameters
+    ----------
+    rule : str, Rule subclass or instance
+    n : int
+        Number of bindings (all with the same parameters).
+    weight : float, optional
+        Binding weight; the rule's default otherwise.
+    **params
+        Parameter values (validated by the rule's ``Params``).
+
+    Examples
+    --------
+    >>> rule, p = bind("near", 2, distance=0.5)
+    >>> p.distance.tolist()
+    [0.5, 0.5]
+    """
+    inst = _instance(rule)
+    model = inst.Params.model_validate(params)
+    w = inst.weight if weight is None else weight
+    return inst, ParamArrays.from_models([model] * n, np.full(n, float(w)))
 
 
 # -- conformance check for rule plugins -------------------------------------------------

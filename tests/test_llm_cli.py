@@ -132,7 +132,7 @@ def test_replies_parse_with_or_without_fences_and_prose(prompts, before, fence):
 
 @pytest.mark.parametrize("text,message", [
     ("", "no JSON object found"),
-    ("[1, 2]", "no JSON object found"),
+    ("[1, 2]", "expected a JSON object, got list"),
     ("{\"prompts\": [1}", "not valid JSON"),
     ("{\"prompts\": \"one\"}", "prompts: Input should be a valid list"),
     ("__import__('os').system('echo hi')", "no JSON object found"),
@@ -163,3 +163,16 @@ def test_run_generate_plans_from_a_prompt_once(tmp_path):
     assert run_generate(args) == 0
     assert Plan.load(tmp_path / "out" / "plan.json").name == "student_bedroom"
     assert len(list((tmp_path / "out").glob("student_bedroom_*.json"))) == 1
+
+
+def test_bad_options_and_failed_generate_planning_are_clear_errors(tmp_path, capsys):
+    assert main(["plan", "bedroom", "--variants", "500", "--out", str(tmp_path),
+                 "--replay", str(RECORDING)]) == 2
+    assert "ask for 1 to 100" in capsys.readouterr().err
+    assert main(["plan", "bedroom", "--attempts", "0", "--replay", str(RECORDING)]) == 2
+    assert "max_attempts=0" in capsys.readouterr().err
+    short = tmp_path / "short.jsonl"
+    short.write_text(RECORDING.read_text().splitlines()[0] + "\n")
+    with pytest.raises(SystemExit) as info:
+        plan_for_generate(argparse.Namespace(prompt="a bedroom", replay=short))
+    assert info.value.code == 2 and "holds 1 replies" in capsys.readouterr().err

@@ -68,12 +68,18 @@ def plan_for_generate(args: argparse.Namespace) -> Plan:
     Decorative items are always planned, so ``--no-decor`` drops them in the
     simulation from the same plan (as in the paper's −Decor condition).
     Reads ``args.prompt`` and the options of :func:`add_client_options` that
-    are present on ``args``; a planning failure raises :class:`PlanningError`.
+    are present on ``args``. A planning failure is printed to stderr and
+    exits the command with status 2.
     """
-    client = make_client(**client_options(args))
-    planner = Planner(client, decor=True, self_check=not getattr(args, "no_self_check", False),
-                      max_attempts=getattr(args, "attempts", 3) or 3)
-    plan = planner.plan(args.prompt)
+    try:
+        client = make_client(**client_options(args))
+        planner = Planner(client, decor=True,
+                          self_check=not getattr(args, "no_self_check", False),
+                          max_attempts=getattr(args, "attempts", 3) or 3)
+        plan = planner.plan(args.prompt)
+    except (PlanningError, LLMRequestError, ReplayError, ValueError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        raise SystemExit(2) from None
     print(f"planned {plan.name!r} from the prompt: {len(plan.objects)} objects, "
           f"{len(plan.rules)} rules", file=sys.stderr)
     return plan
@@ -99,7 +105,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                 return 1
             return 0
         plan = Planner(client, **kwargs).plan(args.prompt)
-    except (PlanningError, LLMRequestError, ReplayError) as e:
+    except (PlanningError, LLMRequestError, ReplayError, ValueError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
     if args.out is None:

@@ -223,6 +223,29 @@ def _loc(loc: tuple[Any, ...]) -> str:
     return out or "(reply)"
 
 
+def _json_in(body: str) -> Any:
+    """The JSON value of a reply: as is, else inside a code fence, else from { to }."""
+    candidates = [body]
+    fence = _FENCE.search(body)
+    if fence:
+        candidates.append(fence.group(1).strip())
+    start, end = body.find("{"), body.rfind("}")
+    if start >= 0 and end > start:
+        candidates.append(body[start:end + 1])
+    if len(candidates) == 1 and not body.startswith(("{", "[")):
+        raise ReplyError(["(reply): no JSON object found; answer with one JSON object "
+                          "only, no prose"])
+    errors: list[json.JSONDecodeError] = []
+    for candidate in candidates:
+        try:
+            return json.loads(candidate)
+        except json.JSONDecodeError as e:
+            errors.append(e)
+    last = errors[-1]  # the most specific candidate: the fence's or the braces' content
+    raise ReplyError([f"(reply): not valid JSON: {last.msg} at line {last.lineno} column "
+                      f"{last.colno}"])
+
+
 def parse_reply(text: str, model: type[_Draft]) -> Any:
     """Parse a reply as JSON (cutting out code fences and prose) and validate it.
 
@@ -247,21 +270,7 @@ def parse_reply(text: str, model: type[_Draft]) -> Any:
     if len(text) > MAX_REPLY_CHARS:
         raise ReplyError([f"(reply): {len(text)} characters is longer than the limit of "
                           f"{MAX_REPLY_CHARS}; answer with the JSON object only"])
-    body = text.strip()
-    fence = _FENCE.search(body)
-    if fence:
-        body = fence.group(1).strip()
-    if not body.startswith("{"):
-        start, end = body.find("{"), body.rfind("}")
-        if start < 0 or end <= start:
-            raise ReplyError(["(reply): no JSON object found; answer with one JSON object "
-                              "only, no prose"])
-        body = body[start:end + 1]
-    try:
-        data = json.loads(body)
-    except json.JSONDecodeError as e:
-        raise ReplyError([f"(reply): not valid JSON: {e.msg} at line {e.lineno} column "
-                          f"{e.colno}"]) from None
+    data = _json_in(text.strip())
     if not isinstance(data, dict):
         raise ReplyError([f"(reply): expected a JSON object, got {type(data).__name__}"])
     try:

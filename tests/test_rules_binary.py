@@ -1,0 +1,199 @@
+"""Binary rules: force direction, torque sign, satisfied checks, and end to end.
+
+Object 0 is the bound object (a 0.5 x 0.5 m chair), object 1 the target (a
+1.2 x 0.6 m desk unless said otherwise) in a 4 x 3.5 m room. Directions are
+the target's: front = local +y, left = local -x, right = local +x.
+"""
+
+import numpy as np
+import pytest
+
+import forcelayout as fl
+from forcelayout.sampling import solve
+from forcelayout.testing import bind, make_state
+
+CHAIR, DESK = [0.5, 0.5], [1.2, 0.6]
+
+
+def run(name, obj, target, *, yaw=0.0, target_yaw=0.0, size=CHAIR, target_size=DESK,
+        **params):
+    st = make_state([obj, target], [yaw, target_yaw], [size, target_size])
+    rule, p = bind(name, 1, **params)
+    i, j = np.array([0]), np.array([1])
+    f, tau = rule.force(st, i, j, p)
+    return f[0], tau[0], bool(rule.satisfied(st, i, j, p)[0]), p.weight[0]
+
+
+def small(f, w):
+    return np.hypot(*f) <= 0.5 * w
+
+
+# -- distances ---------------------------------------------------------------------------
+
+
+def test_next_to_pulls_beside_and_is_met_within_15_cm():
+    f, _, ok, _ = run("next_to", [3.0, 1.75], [1.0, 1.75])
+    assert f[0] < 0 and not ok
+    f, _, ok, w = run("next_to", [1.9, 1.75], [1.0, 1.75])  # gap 0.05
+    assert ok and small(f, w)
+    _, _, ok, _ = run("next_to", [2.1, 1.75], [1.0, 1.75])  # gap 0.25
+    assert not ok
+
+
+def test_near_pulls_until_within_one_metre():
+    f, _, ok, _ = run("near", [3.5, 1.75], [1.0, 1.75])  # gap 1.95
+    assert f[0] < 0 and not ok
+    f, _, ok, w = run("near", [2.3, 1.75], [1.0, 1.75])  # gap 0.45
+    assert ok and small(f, w)
+    _, _, ok, _ = run("near", [2.3, 1.75], [1.0, 1.75], distance=0.3)
+    assert not ok
+
+
+def test_near_check_uses_the_exact_gap_for_diagonal_neighbours():
+    # corner to corner: gap = hypot(0.8, 0.8) = 1.13 > 1
+    _, _, ok, _ = run("near", [2.85, 2.6], [1.0, 1.0], target_size=[1.2, 1.2])
+    assert not ok
+
+
+def test_far_from_pushes_apart_until_two_metres():
+    f, _, ok, _ = run("far_from", [1.9, 1.75], [1.0, 1.75])
+    assert f[0] > 0 and not ok
+    f, _, ok, w = run("far_from", [3.6, 1.75], [0.7, 1.75])  # gap 2.05
+    assert ok and small(f, w)
+
+
+def test_far_from_at_the_same_centre_is_finite():
+    f, _, _, _ = run("far_from", [2.0, 1.75], [2.0, 1.75])
+    assert np.all(np.isfinite(f)) and np.hypot(*f) > 0
+
+
+# -- orientation ---------------------------------------------------------------------------
+
+
+def test_facing_turns_the_front_towards_the_target():
+    _, tau, ok, _ = run("facing", [3.0, 1.75], [1.0, 1.75], yaw=0.0)  # target to the left
+    assert tau > 0 and not ok
+    _, tau, ok, _ = run("facing", [3.0, 1.75], [1.0, 1.75], yaw=-np.pi)
+    assert tau < 0 and not ok
+    f, tau, ok, _ = run("facing", [3.0, 1.75], [1.0, 1.75], yaw=np.pi / 2)
+    assert ok and tau == 0 and np.all(f == 0)
+    _, _, ok, _ = run("facing", [3.0, 1.75], [1.0, 1.75], yaw=np.pi / 2 + np.radians(40))
+    assert not ok
+
+
+def test_face_same_as_matches_the_heading():
+    _, tau, ok, _ = run("face_same_as", [3.0, 1.75], [1.0, 1.75], yaw=0.5)
+    assert tau < 0 and not ok
+    _, tau, ok, _ = run("face_same_as", [3.0, 1.75], [1.0, 1.75], yaw=2.0, target_yaw=3.0)
+    assert tau > 0 and not ok
+    _, _, ok, _ = run("face_same_as", [3.0, 1.75], [1.0, 1.75], yaw=np.pi - 0.1,
+                      target_yaw=-np.pi + 0.1)  # across the +-pi seam: 11 deg apart
+    assert ok
+
+
+# -- sides of the target ----------------------------------------------------------------------
+
+
+def test_in_front_of_pulls_onto_the_targets_front_centre_line():
+    f, _, ok, _ = run("in_front_of", [3.5, 2.5], [2.0, 0.5])
+    assert f[0] < 0 and f[1] < 0 and not ok
+    f, _, ok, w = run("in_front_of", [2.0, 1.3], [2.0, 0.5])  # gap 0.25
+    assert ok and small(f, w)
+
+
+def test_in_front_of_follows_the_target_heading():
+    # desk turned to face -x: its front is the -x side
+    _, _, ok, _ = run("in_front_of", [2.0, 1.3], [2.0, 0.5], target_yaw=np.pi / 2)
+    assert not ok
+    _, _, ok, _ = run("in_front_of", [1.2, 1.75], [2.0, 1.75], target_yaw=np.pi / 2)
+    assert ok
+
+
+def test_behind_goes_round_to_the_back():
+    f, _, ok, _ = run("behind", [2.0, 3.2], [2.0, 2.0])  # in front of the target
+    assert f[1] < 0 and abs(f[0]) > 0 and not ok
+    _, _, ok, _ = run("behind", [2.0, 1.3], [2.0, 2.0])
+    assert ok
+
+
+def test_left_and_right_are_the_targets():
+    # target facing +y: its left is -x
+    assert run("left_of", [1.0, 1.75], [2.0, 1.75])[2]
+    assert not run("left_of", [3.0, 1.75], [2.0, 1.75])[2]
+    assert run("right_of", [3.0, 1.75], [2.0, 1.75])[2]
+    assert not run("right_of", [1.0, 1.75], [2.0, 1.75])[2]
+    # target facing -y: its left is +x
+    assert run("left_of", [3.0, 1.75], [2.0, 1.75], target_yaw=np.pi)[2]
+    f, _, ok, _ = run("left_of", [3.2, 1.75], [2.0, 1.75])
+    assert f[0] < 0 and not ok
+
+
+def test_aligned_with_pulls_onto_the_centre_line_and_squares_up():
+    f, _, ok, _ = run("aligned_with", [2.3, 3.0], [2.0, 1.75])
+    assert f[0] < 0 and not ok
+    f, tau, ok, w = run("aligned_with", [2.05, 3.0], [2.0, 1.75])
+    assert ok and small(f, w) and tau == 0
+    _, tau, ok, _ = run("aligned_with", [2.05, 3.0], [2.0, 1.75], yaw=0.4)
+    assert tau < 0 and not ok
+    assert run("aligned_with", [2.05, 3.0], [2.0, 1.75], yaw=np.pi / 2 + 0.05)[2]
+
+
+# -- around ------------------------------------------------------------------------------------
+
+
+def test_around_pulls_in_and_turns_to_the_table():
+    table = [1.2, 0.8]
+    f, _, ok, _ = run("around", [2.0, 3.2], [2.0, 1.75], target_size=table, yaw=np.pi - 0.3)
+    assert f[1] < 0 and not ok
+    _, tau, _, _ = run("around", [2.0, 3.2], [2.0, 1.75], target_size=table, yaw=np.pi - 0.3)
+    assert tau > 0
+    f, _, ok, w = run("around", [2.0, 2.42], [2.0, 1.75], target_size=table, yaw=np.pi)
+    assert ok and small(f, w)
+
+
+def test_around_spreads_chairs_of_one_table():
+    st = make_state([[2.3, 2.42], [1.7, 2.42], [2.0, 1.75]], [np.pi] * 3,
+                    [CHAIR, CHAIR, [1.2, 0.8]])
+    rule, p = bind("around", 2)
+    f, _ = rule.force(st, np.array([0, 1]), np.array([2, 2]), p)
+    assert f[0, 0] > 0 > f[1, 0]
+
+
+# -- end to end through the public API -----------------------------------------------------
+
+ROOM = {"polygon": [[0, 0], [4, 0], [4, 3.5], [0, 3.5]], "height": 2.7,
+        "doors": [{"wall": 0, "offset": 1.0, "width": 0.9}],
+        "windows": [{"wall": 2, "offset": 2.0, "width": 1.2}]}
+OBJECTS = [{"id": "table", "category": "table", "size": [1.2, 0.8, 0.75]},
+           {"id": "chair", "category": "chair", "size": [0.5, 0.5, 0.9]},
+           {"id": "chair_2", "category": "chair", "size": [0.5, 0.5, 0.9]},
+           {"id": "shelf", "category": "shelf", "size": [0.8, 0.35, 1.8]}]
+CASES = {
+    "next_to": ("chair", "table"), "near": ("chair", "shelf"), "far_from": ("chair", "shelf"),
+    "facing": ("chair", "table"), "face_same_as": ("chair", "shelf"),
+    "in_front_of": ("chair", "shelf"), "behind": ("chair", "table"),
+    "left_of": ("chair", "table"), "right_of": ("chair", "table"),
+    "aligned_with": ("chair", "table"), "around": ("chair", "table"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_rule_is_met_in_most_solved_layouts(name):
+    obj, target = CASES[name]
+    rules = [{"rule": name, "object": obj, "target": target}]
+    if name == "around":
+        rules.append({"rule": name, "object": "chair_2", "target": target})
+    plan = fl.Plan.from_dict({"name": name, "room": ROOM, "objects": OBJECTS, "rules": rules})
+    met = [r.satisfied for seed in range(3) for r in solve(plan, seed, check=False).rule_report()]
+    assert sum(met) >= 2 * len(met) / 3, met
+
+
+def test_a_desk_corner_plan_meets_its_rules():
+    plan = fl.Plan.from_dict({"name": "office", "room": ROOM, "objects": OBJECTS, "rules": [
+        {"rule": "at_wall", "object": "table"},
+        {"rule": "in_front_of", "object": "chair", "target": "table"},
+        {"rule": "facing", "object": "chair", "target": "table"},
+        {"rule": "at_wall", "object": "shelf"},
+        {"rule": "next_to", "object": "chair_2", "target": "shelf"}]})
+    layouts = [solve(plan, seed, check=False) for seed in range(2)]
+    assert np.mean([lay.rule_satisfaction for lay in layouts]) >= 0.8

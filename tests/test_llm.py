@@ -92,6 +92,9 @@ def test_five_steps_give_a_valid_plan_with_structured_output(server):
     assert fmt["type"] == "json_schema" and fmt["json_schema"]["name"] == "objects"
     enum = fmt["json_schema"]["schema"]["$defs"]["RuleDraft"]["properties"]["rule"]["enum"]
     assert {"at_wall", "next_to"} <= set(enum)
+    graph = server.requests[2]["response_format"]["json_schema"]["schema"]
+    area_rules = graph["$defs"]["AreaRuleDraft"]["properties"]["rule"]["enum"]
+    assert "at_wall" in area_rules and "next_to" not in area_rules  # area rules are unary
     assert all(r["model"] == "fake-model" for r in server.requests)
     # the plan so far is shown to later steps
     assert '"bed"' in server.requests[2]["messages"][-1]["content"]

@@ -273,7 +273,10 @@ class Planner:
                           lambda r: self._apply_room(r, prompt))
         draft = self._run("objects", ObjectsStep, values, names,
                           lambda r: self._apply_objects(r, draft, kinds))
-        draft = self._run("scene_graph", SceneGraphStep, values, names,
+        unary = [i for i in infos if i.kind == "unary"]
+        draft = self._run("scene_graph", SceneGraphStep,
+                          {**values, "vocabulary": _vocabulary_text(unary)},
+                          [i.name for i in unary] or names,
                           lambda r: self._apply_graph(r, draft, kinds))
         if self.decor:
             draft = self._run("decor", DecorStep, values, names,

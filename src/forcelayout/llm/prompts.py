@@ -64,7 +64,8 @@ Step 2 of 5: the furniture and its placement rules.
 List the main (non-decorative) objects this room needs, each with a realistic size, its \
 functional area and whether it is primary (main furniture a person must reach). Then give \
 the placement rules and pairwise relations that make the room functional. Use only these \
-rules; unary rules take no target, binary rules and on_top need a target object id:
+rules; unary rules take no target; binary rules, on_top and above need a target \
+object id:
 
 $vocabulary
 
@@ -81,9 +82,9 @@ Scene description: "$prompt"
 
 Step 3 of 5: the scene graph.
 Group the objects into the functional areas (every object id in at most one area) and give \
-each area its placement rules (unary rules only, e.g. at_wall for a sleeping area). List \
-support bonds: an object that rests on top of another (a lamp on a nightstand) as \
-{"object": child id, "parent": parent id}. Use only these rules:
+each area its placement rules (e.g. at_wall for a sleeping area). List support bonds: an \
+object that rests on top of another (a lamp on a nightstand) as \
+{"object": child id, "parent": parent id}. Area rules may use only these rules:
 
 $vocabulary
 

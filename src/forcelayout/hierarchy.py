@@ -212,6 +212,9 @@ class AreaVariant:
         Tallest object, metres.
     steps : int
         Simulation steps it took.
+    back_at_wall : bool
+        Whether an ``at_wall`` object of the area stands against the area's
+        back; the area's rectangle is then kept at a wall of the room.
     """
 
     area: str
@@ -221,9 +224,12 @@ class AreaVariant:
     extent: tuple[float, float]
     height: float
     steps: int
+    back_at_wall: bool = False
 
 
-def _local_rules(plan: Plan, ids: set[str], relations: bool) -> list[RuleSpec]:
+def _local_rules(plan: Plan, ids: set[str], roots: set[str], relations: bool
+                 ) -> list[RuleSpec]:
+    """Rules simulated in an area's frame: object-object rules, and the roots' ``at_wall``."""
     out = []
     for s in plan.rules:
         if s.object not in ids or s.rule in SURFACE_RULES:
@@ -231,7 +237,7 @@ def _local_rules(plan: Plan, ids: set[str], relations: bool) -> list[RuleSpec]:
         kind = registry.get_rule(s.rule).kind
         if kind == "binary" and relations and s.target in ids:
             out.append(s)
-        elif kind == "unary" and s.rule in _LOCAL_UNARY:
+        elif kind == "unary" and s.rule in _LOCAL_UNARY and s.object in roots:
             out.append(s)
     return out
 
@@ -283,39 +289,57 @@ def area_variants(
         raise KeyError(f"area {area!r} has no floor objects; areas: {sorted(area_units(plan, g))}")
     cfg = solver or SolverConfig()
     depth = _floor_depths(plan, g)
+    k = len(members)
     size = np.array([plan.object(m).size for m in members], dtype=float)
     room = RoomGeometry.from_room(plan.room)
-    bw, bh = (room.bounds[2:] - room.bounds[:2])
+    span = float((room.bounds[2:] - room.bounds[:2]).max())
     need = float(np.sqrt(3.0 * (size[:, 0] * size[:, 1]).sum()))
     big = float(size[:, :2].max()) + 0.3
-    side_w = min(max(need, big), max(bw, big))
-    side_d = min(max(need, big), max(bh, big))
+    side_w = min(max(need * 1.3, float(size[:, :2].max(axis=1).sum()) + 0.1 * k, big),
+                 max(span, big))
+    side_d = min(max(need, big), max(span, big))
     frame = RoomGeometry(np.array([[0, 0], [side_w, 0], [side_w, side_d], [0, side_d]]), 1.0)
-    sub = _sub_plan(plan, _local_rules(plan, set(members), relations))
+    at_wall = {s.object for s in plan.rules if s.rule == "at_wall"}
+    roots = {m for m in members if depth.get(m, 0) == 0}
+    sub = _sub_plan(plan, _local_rules(plan, set(members), roots, relations))
     levels = sorted({depth.get(m, 0) for m in members})
+    reach = size[:, :2].max(axis=1) / 2 + 0.02
+    lo_c, hi_c = reach[:, None], np.array([side_w, side_d])[None, :] - reach[:, None]
     out = []
     for _ in range(max(int(v), 0)):
-        pos = np.zeros((len(members), 2))
-        yaw = np.zeros(len(members))
+        pos = np.zeros((k, 2))
+        yaw = np.zeros(k)
         steps = 0
-        done = np.zeros(len(members), dtype=bool)
-        for lev in levels:
+        done = np.zeros(k, dtype=bool)
+        first_wall = True
+        for lev in levels[:k]:
             new = np.array([depth.get(m, 0) == lev for m in members])
             for r in np.flatnonzero(new):
                 parents = [members.index(p) for p in g.predecessors(members[r])
                            if p in members and done[members.index(p)]]
-                if parents:
+                if parents:  # beside the parent, in the parent's frame
                     q = parents[0]
-                    ang = rng.uniform(-np.pi, np.pi)
-                    dist = 0.5 * (np.hypot(*size[q, :2]) + np.hypot(*size[r, :2])) + 0.05
-                    pos[r] = pos[q] + dist * np.array([np.cos(ang), np.sin(ang)])
+                    wq, dq = size[q, :2] / 2
+                    wr, dr = size[r, :2] / 2
+                    if members[r] in at_wall and members[q] in at_wall:
+                        side = rng.choice([-1.0, 1.0])
+                        off = np.array([side * (wq + wr + 0.05), dr - dq])
+                    else:
+                        off = [np.array([-(wq + wr + 0.05), 0.0]),
+                               np.array([wq + wr + 0.05, 0.0]),
+                               np.array([0.0, dq + dr + 0.05])][int(rng.integers(3))]
+                    c, s_ = np.cos(yaw[q]), np.sin(yaw[q])
+                    pos[r] = pos[q] + np.array([[c, -s_], [s_, c]]) @ off
                     yaw[r] = yaw[q]
+                elif members[r] in at_wall:  # the first against the area's back (local -y)
+                    side = 0 if first_wall else int(rng.integers(4))
+                    first_wall = False
+                    pos[r], yaw[r] = _on_frame_wall(side, size[r], side_w, side_d, rng)
                 else:
-                    pos[r] = rng.uniform(size[r, :2].max() / 2,
-                                         np.array([side_w, side_d]) - size[r, :2].max() / 2)
+                    pos[r] = rng.uniform(lo_c[r], np.maximum(hi_c[r], lo_c[r]))
                     yaw[r] = rng.integers(4) * np.pi / 2
-            pos = np.clip(pos, [0.05, 0.05], [side_w - 0.05, side_d - 0.05])
             active = done | new
+            pos[new] = np.clip(pos[new], np.minimum(lo_c[new], hi_c[new]), hi_c[new])
             ids = [m for m, a in zip(members, active, strict=True) if a]
             model = ForceModel(sub, ids, room=frame, relations=relations)
             res = simulate(model, pos[active], yaw[active], cfg, fixed=done[active])
@@ -326,8 +350,21 @@ def area_variants(
         lo, hi = c.min(axis=0), c.max(axis=0)
         out.append(AreaVariant(area, tuple(members), pos - (lo + hi) / 2, yaw.copy(),
                                (float(hi[0] - lo[0]), float(hi[1] - lo[1])),
-                               float(size[:, 2].max()), steps))
+                               float(size[:, 2].max()), steps,
+                               bool(at_wall & roots)))
     return out
+
+
+def _on_frame_wall(side: int, size: np.ndarray, w: float, d: float, rng: np.random.Generator
+                   ) -> tuple[np.ndarray, float]:
+    """A pose with the back against side ``side`` (0 = y=0, then CCW) of a ``w x d`` frame."""
+    hw, hd = size[0] / 2, size[1] / 2
+    if side in (0, 2):
+        x = rng.uniform(min(hw, w / 2), max(w - hw, w / 2))
+        return np.array([x, hd + 0.02 if side == 0 else d - hd - 0.02]), 0.0 if side == 0 else np.pi
+    y = rng.uniform(min(hw, d / 2), max(d - hw, d / 2))
+    return (np.array([w - hd - 0.02, y]), np.pi / 2) if side == 1 else \
+        (np.array([hd + 0.02, y]), -np.pi / 2)
 
 
 def _unit_plan(plan: Plan, variants: dict[str, AreaVariant], relations: bool
@@ -347,9 +384,13 @@ def _unit_plan(plan: Plan, variants: dict[str, AreaVariant], relations: bool
             unit_of[o.id] = o.id
             objs.append(o)
     rules: list[RuleSpec] = []
-    for name in variants:
+    for name, var in variants.items():
         area = next((a for a in plan.areas if a.name == name), None)
-        for ar in area.rules if area is not None else []:
+        area_rules = list(area.rules) if area is not None else []
+        if var.back_at_wall and not any(ar.rule in ("at_wall", "in_middle") for ar in area_rules):
+            rules.append(RuleSpec.model_construct(rule="at_wall", object=_FREE + name,
+                                                  target=None, params={}, weight=None))
+        for ar in area_rules:
             if registry.get_rule(ar.rule).kind == "surface":
                 continue
             tgt = unit_of.get(ar.target, _FREE + ar.target if ar.target in variants else None) \
@@ -407,6 +448,8 @@ def assemble(
     sub, units, _ = _unit_plan(plan, variants, relations)
     model = ForceModel(sub, units, relations=relations)
     p0, y0 = initial_poses(model, rng)
+    y0 = np.round(y0 / (np.pi / 2)) * (np.pi / 2)  # rectangles start square to the room
+    p0 = _push_inside(model.room, p0, y0, model.size[:, :2] * 0.5)
     res = simulate(model, p0, y0, cfg)
     steps, converged = res.steps, res.converged
     floor = [o.id for o in plan.floor_objects()]
@@ -426,11 +469,25 @@ def assemble(
     for r, oid in enumerate(floor):
         pos[r], yaw[r] = place[oid]
     full = ForceModel(plan, floor, relations=relations)
+    pos = _push_inside(full.room, pos, yaw, full.size[:, :2] * 0.5)
     polish = replace(cfg, max_steps=max(1, min(cfg.max_steps, settle_steps)))
     res2 = simulate(full, pos, yaw, polish)
     poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
              for oid, p, y in zip(floor, res2.pos, res2.yaw, strict=True)}
     return poses, steps + res2.steps, converged and res2.converged
+
+
+def _push_inside(room: RoomGeometry, pos: np.ndarray, yaw: np.ndarray, half: np.ndarray,
+                 step: float = 0.05, cap: int = 100) -> np.ndarray:
+    """Move footprints that cross a wall towards the room's centroid until they are inside."""
+    pos = pos.copy()
+    for _ in range(cap):
+        out = ~room.contains(box_corners(pos, yaw, half)).all(axis=1)
+        if not out.any():
+            break
+        d = room.centroid - pos[out]
+        pos[out] += step * d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-9)
+    return pos
 
 
 class VariantLibrary:

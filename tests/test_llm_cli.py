@@ -41,7 +41,7 @@ def test_plan_command_writes_a_valid_plan(tmp_path, capsys):
     out = tmp_path / "plans" / "plan.json"
     with FakeChatServer(bedroom_script()) as srv:
         code = main(["plan", "a student's bedroom", "--out", str(out), "--base-url", srv.url,
-                     "--model", "fake", "--timeout", "2", "--record",
+                     "--model", "fake", "--llm-timeout", "2", "--record",
                      str(tmp_path / "run.jsonl")])
     assert code == 0
     plan = Plan.load(out)
@@ -56,14 +56,14 @@ def test_plan_command_no_decor(tmp_path):
     out = tmp_path / "plan.json"
     with FakeChatServer(bedroom_script(decor=False)) as srv:
         assert main(["plan", "a bedroom", "--out", str(out), "--no-decor",
-                     "--base-url", srv.url, "--timeout", "2"]) == 0
+                     "--base-url", srv.url, "--llm-timeout", "2"]) == 0
     assert not any(o.decor for o in Plan.load(out).objects)
 
 
 def test_plan_command_reports_failure_with_exit_2(capsys):
     with FakeChatServer(["nonsense"] * 2) as srv:
-        code = main(["plan", "a bedroom", "--base-url", srv.url, "--timeout", "2",
-                     "--attempts", "2"])
+        code = main(["plan", "a bedroom", "--base-url", srv.url, "--llm-timeout", "2",
+                     "--llm-attempts", "2"])
     assert code == 2
     err = capsys.readouterr().err
     assert "planning step 'room' failed after 2 attempts" in err
@@ -71,8 +71,8 @@ def test_plan_command_reports_failure_with_exit_2(capsys):
 
 def test_generate_prompt_plans_once_from_args(tmp_path):
     args = argparse.Namespace(prompt="a student's bedroom", replay=RECORDING, record=None,
-                              base_url=None, model=None, timeout=None, temperature=None,
-                              llm_seed=None, attempts=3, no_self_check=False)
+                              base_url=None, model=None, llm_timeout=None, temperature=None,
+                              llm_seed=None, llm_attempts=3, no_self_check=False)
     plan = plan_for_generate(args)
     assert plan.name == "student_bedroom" and any(o.decor for o in plan.objects)
     # options missing from the namespace fall back to defaults
@@ -112,7 +112,7 @@ def test_plan_command_variants_writes_one_plan_per_description(tmp_path):
     script = [_prompts("a student's bedroom"), *bedroom_script()]
     with FakeChatServer(script) as srv:
         assert main(["plan", "bedroom", "--variants", "1", "--out", str(tmp_path),
-                     "--base-url", srv.url, "--timeout", "2"]) == 0
+                     "--base-url", srv.url, "--llm-timeout", "2"]) == 0
     (path,) = tmp_path.glob("*.json")
     assert Plan.load(path).name == "student_bedroom"
 
@@ -169,10 +169,26 @@ def test_bad_options_and_failed_generate_planning_are_clear_errors(tmp_path, cap
     assert main(["plan", "bedroom", "--variants", "500", "--out", str(tmp_path),
                  "--replay", str(RECORDING)]) == 2
     assert "ask for 1 to 100" in capsys.readouterr().err
-    assert main(["plan", "bedroom", "--attempts", "0", "--replay", str(RECORDING)]) == 2
+    assert main(["plan", "bedroom", "--llm-attempts", "0", "--replay", str(RECORDING)]) == 2
     assert "max_attempts=0" in capsys.readouterr().err
     short = tmp_path / "short.jsonl"
     short.write_text(RECORDING.read_text().splitlines()[0] + "\n")
     with pytest.raises(SystemExit) as info:
         plan_for_generate(argparse.Namespace(prompt="a bedroom", replay=short))
     assert info.value.code == 2 and "holds 1 replies" in capsys.readouterr().err
+
+
+def test_client_options_parse_into_what_plan_for_generate_reads(tmp_path):
+    from forcelayout.llm.cli import add_client_options, client_options
+
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--prompt")
+    add_client_options(parser)
+    args = parser.parse_args(["--prompt", "a bedroom", "--base-url", "http://127.0.0.1:9/v1",
+                              "--model", "m", "--llm-timeout", "7", "--temperature", "0.5",
+                              "--llm-seed", "3", "--record", str(tmp_path / "r.jsonl")])
+    assert client_options(args) == {
+        "record": tmp_path / "r.jsonl", "replay": None, "base_url": "http://127.0.0.1:9/v1",
+        "model": "m", "timeout": 7.0, "temperature": 0.5, "seed": 3}
+    args = parser.parse_args(["--prompt", "a bedroom", "--replay", str(RECORDING)])
+    assert plan_for_generate(args).name == "student_bedroom"

@@ -37,11 +37,11 @@ def add_client_options(p: argparse.ArgumentParser) -> None:
                         "(default $OPENAI_BASE_URL, else OpenAI)")
     p.add_argument("--model", default=None,
                    help="model name (default $FORCELAYOUT_LLM_MODEL, else gpt-4o-2024-08-06)")
-    p.add_argument("--timeout", type=float, default=120.0,
+    p.add_argument("--llm-timeout", type=float, default=120.0,
                    help="seconds to wait per reply (default 120)")
     p.add_argument("--temperature", type=float, default=None, help="sampling temperature")
     p.add_argument("--llm-seed", type=int, default=None, help="sampling seed for the model")
-    p.add_argument("--attempts", type=int, default=3,
+    p.add_argument("--llm-attempts", type=int, default=3,
                    help="attempts per planning step (default 3)")
     p.add_argument("--no-self-check", action="store_true", help="skip the self-check step")
     p.add_argument("--record", type=Path, default=None,
@@ -56,7 +56,7 @@ def client_options(args: argparse.Namespace) -> dict[str, Any]:
                            "replay": getattr(args, "replay", None)}
     if out["replay"] is None:
         out.update(base_url=getattr(args, "base_url", None), model=getattr(args, "model", None),
-                   timeout=getattr(args, "timeout", None) or 120.0,
+                   timeout=getattr(args, "llm_timeout", None) or 120.0,
                    temperature=getattr(args, "temperature", None),
                    seed=getattr(args, "llm_seed", None))
     return out
@@ -75,7 +75,7 @@ def plan_for_generate(args: argparse.Namespace) -> Plan:
         client = make_client(**client_options(args))
         planner = Planner(client, decor=True,
                           self_check=not getattr(args, "no_self_check", False),
-                          max_attempts=getattr(args, "attempts", 3) or 3)
+                          max_attempts=getattr(args, "llm_attempts", 3) or 3)
         plan = planner.plan(args.prompt)
     except (PlanningError, LLMRequestError, ReplayError, ValueError) as e:
         print(f"error: {e}", file=sys.stderr)
@@ -89,7 +89,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     try:
         client = make_client(**client_options(args))
         kwargs = {"decor": not args.no_decor, "self_check": not args.no_self_check,
-                  "max_attempts": args.attempts}
+                  "max_attempts": args.llm_attempts}
         if args.variants:
             if args.out is None:
                 print("error: --variants needs --out DIR", file=sys.stderr)

@@ -93,6 +93,8 @@ def solve(
         Its ``report`` says whether it passed the checks and, if not, why.
     """
     opts = _options(options, kwargs)
+    if not isinstance(seed, int | np.integer) or seed < 0:
+        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
     plan = _plan_for(load_plan(plan), opts)
     t0 = time.perf_counter()
     from forcelayout.pipeline import realise

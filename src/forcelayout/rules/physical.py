@@ -135,23 +135,33 @@ def alignment(state: State, w: PhysicalWeights) -> tuple[np.ndarray, np.ndarray]
 def door_clearance(state: State, w: PhysicalWeights) -> tuple[np.ndarray, np.ndarray]:
     """Push footprints out of each door's swing square (door width deep into the room).
 
-    The push runs along the wall, away from the door's centre, so objects
-    standing at that wall slide aside rather than into the room.
+    The push runs along the square's axis of least penetration: sideways
+    along the wall for an object beside the door, straight into the room for
+    an object in front of it.
     """
     room = state.room
     n = state.n
     if len(room.doors) == 0 or n == 0:
         return np.zeros((n, 2)), np.zeros(n)
-    margin = 0.05
+    margin = 0.02
     depth = margin - state.door_separations  # (N, D)
     if not (depth > 0).any():
         return np.zeros((n, 2)), np.zeros(n)
-    depth = np.clip(depth, 0.0, 1.0)
-    centre, dr, df, _ = room.door_squares
-    along = state.pos @ dr.T - (centre * dr).sum(1)  # (N, D) position along each door's wall
-    sign = np.where(along >= 0, 1.0, -1.0)
-    f = (sign * depth * (w.door * 10.0)) @ dr + (depth * (w.door * 2.0)) @ df
-    return f, np.zeros(n)
+    depth = np.clip(depth, 0.0, 1.0) * (w.door * 10.0)
+    centre, dr, df, dh = room.door_squares
+    along = state.pos @ dr.T - (centre * dr).sum(1)  # (N, D) offset along the door's wall
+    ahead = state.pos @ df.T - (centre * df).sum(1)  # (N, D) offset into the room
+    # an object's half extent along each axis of the square
+    ext_a = np.abs(state.right @ dr.T) * state.half[:, :1] + np.abs(state.front @ dr.T) \
+        * state.half[:, 1:]
+    ext_b = np.abs(state.right @ df.T) * state.half[:, :1] + np.abs(state.front @ df.T) \
+        * state.half[:, 1:]
+    pen_a = dh[None, :, 0] + ext_a - np.abs(along)  # overlap if pushed sideways
+    pen_b = dh[None, :, 1] + ext_b - ahead  # overlap if pushed into the room
+    sideways = pen_a <= pen_b
+    fa = np.where(sideways, np.where(along >= 0, depth, -depth), 0.0)
+    fb = np.where(sideways, 0.0, depth)
+    return fa @ dr + fb @ df, np.zeros(n)
 
 
 def physical(

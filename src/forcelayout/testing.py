@@ -321,8 +321,8 @@ def _instance(rule: type[Rule] | Rule | str) -> Rule:
         return rule
     if isinstance(rule, type) and issubclass(rule, Rule):
         inst = rule()
-        if not inst.name:
-            type(inst).name = rule.__name__
+        if "name" not in vars(rule):  # not registered: name it after its class
+            inst.name = rule.__name__  # type: ignore[misc]
         return inst
     raise TypeError(f"check_rule() takes a rule name, Rule subclass or instance, got {rule!r}")
 
@@ -356,7 +356,8 @@ def _opening_specs(o: Any, room: RoomGeometry) -> list[tuple[int, float, float]]
 def _call_force(rule: Rule, state: State, i: np.ndarray, j: np.ndarray | None,
                 p: ParamArrays, where: str) -> tuple[np.ndarray, np.ndarray]:
     b = len(i)
-    out = rule.force(state, i, j, p)
+    with np.errstate(all="ignore"):  # non-finite results are reported below
+        out = rule.force(state, i, j, p)
     if not (isinstance(out, tuple) and len(out) == 2):
         raise RuleConformanceError(
             f"{rule.name}.force() must return a tuple (F, tau), got {type(out).__name__} "
@@ -506,7 +507,9 @@ def check_rule(
                     f"from {np.round(f, 4).tolist()} to {np.round(f2, 4).tolist()}. Use "
                     "positions relative to the room's walls or the target, not absolute ones")
             _call_satisfied(inst, state, ii, jj, params_for(len(ii)), where)
-        before.append(_call_satisfied(inst, state, i, j, params_for(len(i)), where))
+        ok = _call_satisfied(inst, state, i, j, params_for(len(i)), where)
+        before.append(ok)
+        _check_margin(inst, state, i, j, params_for(len(i)), ok, rng, max_satisfied_force, where)
         # relax along the rule's own force, the way the solver moves bodies
         pos, yaw = state.pos.copy(), state.yaw.copy()
         for t in range(steps):

@@ -236,10 +236,9 @@ class _Side(Rule):
         w = p.weight
         ext_v = _extent(state, i, v)
         on_side = a > hu
-        # along u: stay between touching and a little less than the allowed gap
-        hi = p.distance - np.minimum(0.1, 0.5 * p.distance)
-        fu = np.clip((np.maximum(0.02 - gap, 0.0) - np.maximum(gap - hi, 0.0)) * GAIN, -CAP, CAP)
-        fu = np.where(on_side, fu, CAP * 0.5)
+        # along u: closer than a little less than the allowed gap (contacts keep it off)
+        fu = -_ramp(gap - p.distance + np.minimum(0.1, 0.5 * p.distance))
+        fu = np.where(on_side, fu, 0.5 * CAP)
         # along v: onto the centre line when on the side, else around the target
         band = hv + p.lateral
         band = band - np.minimum(0.1, 0.5 * band)

@@ -100,6 +100,15 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--no-relations", action="store_true", help="ablation: no relation forces")
     g.add_argument("--no-decor", action="store_true", help="ablation: drop decor objects")
     g.add_argument("--quiet", action="store_true", help="no progress bar")
+    g.add_argument("--prompt", default=None,
+                   help="plan the scene from this description with an LLM first "
+                        "(needs forcelayout[llm]; see `forcelayout plan --help`)")
+    try:
+        from forcelayout.llm.cli import add_client_options
+    except ImportError:
+        pass
+    else:
+        add_client_options(g)
     g.set_defaults(func=_cmd_generate)
 
     r = sub.add_parser("rules", help="list the rule vocabulary")
@@ -139,12 +148,12 @@ def _missing(extra: str) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
-    from forcelayout.errors import PlanError, UnknownRuleError
+    from forcelayout.errors import MissingExtraError, PlanError, UnknownRuleError
 
     args = build_parser().parse_args(argv)
     try:
         return int(args.func(args) or 0)
-    except (PlanError, UnknownRuleError, FileNotFoundError) as e:
+    except (PlanError, UnknownRuleError, MissingExtraError, FileNotFoundError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
 

@@ -1,0 +1,41 @@
+"""An example forcelayout rule plugin: ``near_plant``.
+
+Installed with ``pip install -e examples/plugin``, it registers the rule
+through the entry-point group ``forcelayout.rules``; forcelayout imports this
+module only when a plan names ``near_plant``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from pydantic import Field
+
+from forcelayout.rules import ParamArrays, Rule, State
+
+__all__ = ["NearPlant"]
+
+
+class NearPlant(Rule):
+    """Beside a potted plant: footprint gap to the target plant at most ``distance`` metres.
+
+    A soft relation for reading corners (an armchair by a ficus). The force
+    pulls the object towards the plant until the gap is a little below
+    ``distance`` and is zero from there on; the plant itself does not move.
+    """
+
+    kind = "binary"
+    weight = 1.0  # a soft relation: weaker than at_wall (3.0) and physical repulsion
+
+    class Params(Rule.Params):
+        distance: float = Field(0.5, gt=0, description="Largest footprint gap to the plant, m.")
+
+    def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        d = state.pos[j] - state.pos[i]  # (B, 2): every binding at once
+        u = d / np.maximum(np.sqrt((d * d).sum(1, keepdims=True)), 1e-9)
+        gap = state.separation(i, j)  # fast lower bound of the gap, metres
+        target = p.distance - np.minimum(0.1, 0.5 * p.distance)  # aim a little inside
+        pull = np.clip(4.0 * (gap - target), 0.0, 1.5)  # clipped: nothing explodes
+        return u * (p.weight * pull)[:, None], np.zeros(len(i))
+
+    def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        return state.gap(i, j) <= p.distance  # the exact gap

@@ -1,0 +1,77 @@
+"""Rule plugins for real: the entry-point package in examples/plugin and examples/02."""
+
+import os
+import subprocess
+import sys
+from importlib.metadata import PackageNotFoundError, distribution
+from pathlib import Path
+
+import pytest
+
+import forcelayout as fl
+from forcelayout.testing import check_rule
+
+ROOT = Path(__file__).parent.parent
+try:
+    distribution("forcelayout-plant-rules")
+    INSTALLED = True
+except PackageNotFoundError:
+    INSTALLED = False
+needs_plugin = pytest.mark.skipif(
+    not INSTALLED, reason="example plugin not installed: pip install -e examples/plugin")
+
+PLAN = {
+    "name": "reading_corner",
+    "room": {"polygon": [[0, 0], [4, 0], [4, 3.5], [0, 3.5]], "height": 2.7,
+             "doors": [{"wall": 0, "offset": 1.0, "width": 0.9}]},
+    "objects": [{"id": "ficus", "category": "plant", "size": [0.5, 0.5, 1.4]},
+                {"id": "armchair", "category": "armchair", "size": [0.8, 0.8, 0.9]}],
+    "rules": [{"rule": "in_corner", "object": "ficus"},
+              {"rule": "near_plant", "object": "armchair", "target": "ficus"}],
+}
+
+
+@needs_plugin
+def test_entry_point_rule_is_found_by_name_without_importing_it_first():
+    code = (
+        "import sys, forcelayout\n"
+        "from forcelayout import rules\n"
+        "assert 'forcelayout_plant_rules' not in sys.modules\n"
+        "print('near_plant' in rules.available_rules())\n"
+        "print('forcelayout_plant_rules' in sys.modules)\n"
+        "rule = rules.get_rule('near_plant')\n"
+        "print(rule.kind, type(rule).__module__)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.split("\n")
+    # listed without importing the plugin; imported on first use
+    assert out[:3] == ["True", "False", "binary forcelayout_plant_rules"]
+
+
+@needs_plugin
+def test_plan_with_the_plugin_rule_validates_and_solves():
+    plan = fl.Plan.from_dict(PLAN)
+    met = [fl.solve(plan, seed, check=False).rule_report()[1].satisfied for seed in range(3)]
+    assert sum(met) >= 2, met
+
+
+@needs_plugin
+def test_plugin_rule_conforms_and_is_described():
+    check_rule("near_plant", n_states=5)
+    info = {i.name: i for i in fl.rules.describe_rules("near_plant")}["near_plant"]
+    assert info.summary.startswith("Beside a potted plant")
+    assert "distance" in info.params
+
+
+def test_unknown_plugin_rule_suggests_installing_or_registering():
+    bad = dict(PLAN, rules=[{"rule": "near_plnt", "object": "armchair", "target": "ficus"}])
+    with pytest.raises(fl.PlanError, match="unknown rule 'near_plnt'"):
+        fl.Plan.from_dict(bad)
+
+
+def test_custom_rule_example_runs(tmp_path):
+    env = dict(os.environ, MPLBACKEND="Agg")
+    proc = subprocess.run([sys.executable, str(ROOT / "examples" / "02_custom_rule.py")],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=300, env=env)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert "look_out_window(armchair): met" in proc.stdout

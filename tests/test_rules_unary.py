@@ -173,3 +173,23 @@ def test_at_wall_in_an_l_shaped_room():
     met = [r.satisfied for seed in range(2)
            for r in solve(plan, seed, check=False).rule_report()]
     assert sum(met) >= 3, met
+
+
+def test_docs_table_lists_every_floor_rule_with_its_defaults():
+    from pathlib import Path
+
+    from forcelayout.rules import describe_rules
+
+    text = (Path(__file__).parent.parent / "docs" / "rules.md").read_text(encoding="utf-8")
+    rows = {line.split("|")[1].strip(" `"): line for line in text.splitlines()
+            if line.startswith("| `")}
+    for info in describe_rules():
+        if info.kind == "surface" or info.name not in {*CASES, "next_to", "near", "far_from",
+                                                        "facing", "face_same_as", "in_front_of",
+                                                        "behind", "left_of", "right_of",
+                                                        "aligned_with", "around"}:
+            continue
+        row = rows[info.name]
+        assert f"| {info.weight:g} |" in row, info.name
+        for k, v in info.params.items():
+            assert f"`{k}` = {v['default']:g}" in row, (info.name, k)

@@ -54,6 +54,8 @@ def draw(plan: fl.Plan, condition: str, seed: int) -> Sample:
     judged by :func:`forcelayout.validate.check_layout`. A sample that raises
     counts as invalid, with the error as its failure.
     """
+    if condition not in CONDITIONS:
+        raise ValueError(f"unknown condition {condition!r}; use one of {CONDITIONS}")
     t0 = time.process_time()
     try:
         if condition == "Random":
@@ -68,13 +70,10 @@ def draw(plan: fl.Plan, condition: str, seed: int) -> Sample:
             opts = {"Full": {}, "-Relations": {"relations": False},
                     "-Decor": {"decor": False}}[condition]
             lay = fl.solve(plan, seed, **opts)
-    except (KeyError, TypeError) as e:
-        if condition not in CONDITIONS:
-            raise ValueError(f"unknown condition {condition!r}; use one of {CONDITIONS}") from e
-        raise
     except Exception as e:  # a failing sample is data, not a crash of the benchmark
         cpu = time.process_time() - t0
-        return Sample(fl.Layout(plan, {}, seed), False, 0.0, cpu, [f"error: {type(e).__name__}"])
+        return Sample(fl.Layout(plan, {}, seed), False, 0.0, cpu,
+                      [f"error: {type(e).__name__}: {e}"])
     cpu = time.process_time() - t0
     rep = lay.report
     return Sample(lay, bool(rep.valid), float(rep.rule_satisfaction), cpu, list(rep.failures))

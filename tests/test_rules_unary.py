@@ -31,9 +31,13 @@ def run(name, pos, yaw, size, *, room=None, **params):
 def test_at_wall_pulls_to_the_nearest_wall_and_is_met_there():
     f, _, ok, _ = run("at_wall", [[2.0, 1.0]], [0.0], [[1.0, 0.5]])
     assert f[0, 1] < 0 and not ok[0]
-    f, tau, ok, w = run("at_wall", [[2.0, 0.27]], [0.0], [[1.0, 0.5]])
+    _, _, ok, _ = run("at_wall", [[2.0, 0.29]], [0.0], [[1.0, 0.5]])  # 4 cm off the wall
+    assert ok[0]
+    f, tau, ok, w = run("at_wall", [[2.0, 0.252]], [0.0], [[1.0, 0.5]])  # touching it
     assert ok[0]
     assert np.hypot(*f[0]) <= 0.5 * w[0] and abs(tau[0]) < 1e-9
+    _, _, ok, _ = run("at_wall", [[2.0, 0.31]], [0.0], [[1.0, 0.5]])  # 6 cm off
+    assert not ok[0]
 
 
 def test_at_wall_turns_its_back_to_the_wall():

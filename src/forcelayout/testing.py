@@ -414,7 +414,7 @@ def check_rule(
     4. following the rule's own force for ``steps`` steps (as the solver
        does, without collisions) does not make its check fail more often;
     5. where the check says "satisfied with margin" (it stays satisfied
-       when every object is nudged by 1 cm and 0.5°), the force is at most
+       when every object is nudged by about 2 cm and 1°), the force is at most
        ``max_satisfied_force`` times the binding weight, so a finished layout
        is not pulled around.
 
@@ -540,8 +540,8 @@ def _check_margin(rule: Rule, state: State, i: np.ndarray, j: np.ndarray | None,
     for _ in range(4):
         if not robust.any():
             return
-        nudged = State(state.pos + rng.normal(0.0, 0.01, state.pos.shape),
-                       state.yaw + rng.normal(0.0, np.radians(0.5), state.yaw.shape),
+        nudged = State(state.pos + rng.normal(0.0, 0.02, state.pos.shape),
+                       state.yaw + rng.normal(0.0, np.radians(1.0), state.yaw.shape),
                        state.size, state.room, state.ids)
         robust &= _call_satisfied(rule, nudged, i, j, p, where)
     f, _ = _call_force(rule, state, i, j, p, where)

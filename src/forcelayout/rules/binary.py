@@ -34,7 +34,7 @@ __all__ = [
 ]
 
 #: Torque per radian of heading error (times the binding weight), and its cap.
-TURN = 2.5
+TURN = 5.0
 TURN_CAP = 1.5
 
 

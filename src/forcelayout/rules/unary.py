@@ -27,9 +27,15 @@ GAIN = 4.0
 CAP = 1.5
 
 
-def _ramp(excess: np.ndarray) -> np.ndarray:
-    """Clipped linear pull: 0 for ``excess <= 0``, ``GAIN * excess`` up to ``CAP``."""
-    return np.minimum(np.maximum(excess, 0.0) * GAIN, CAP)
+#: Steeper gain of the hard placement rules (at_wall, in_corner): they saturate within a
+#: few centimetres of their goal, so a soft pull (weight x CAP at most) cannot hold them
+#: off it.
+HARD_GAIN = 20.0
+
+
+def _ramp(excess: np.ndarray, gain: float = GAIN) -> np.ndarray:
+    """Clipped linear pull: 0 for ``excess <= 0``, ``gain * excess`` up to ``CAP``."""
+    return np.minimum(np.maximum(excess, 0.0) * gain, CAP)
 
 
 def _signed_angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -57,7 +63,7 @@ def _unit(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _wall_pull(state: State, i: np.ndarray, wall: np.ndarray, w: np.ndarray,
-               inside: float = 0.01) -> np.ndarray:
+               inside: float = 0.005) -> np.ndarray:
     """Force pulling footprints ``i`` flat against walls ``wall`` (one per binding).
 
     The pull is along the wall's outward normal, proportional to the gap
@@ -68,7 +74,7 @@ def _wall_pull(state: State, i: np.ndarray, wall: np.ndarray, w: np.ndarray,
     n = room.normal[wall]
     s = (state.pos[i] * n).sum(1) - room.normal_offset[wall]
     gap = s - _extent(state, i, n)
-    return -n * (w * _ramp(gap + inside))[:, None]
+    return -n * (w * _ramp(gap + inside, HARD_GAIN))[:, None]
 
 
 _CORNERS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
@@ -120,15 +126,15 @@ class AtWall(Rule):
         fn = fx * nx + fy * ny  # front . normal
         rn = fy * nx - fx * ny  # right . normal
         hw, hd = 0.5 * size[:, 0], 0.5 * size[:, 1]
-        # pull the footprint onto the wall's line, aiming 1 cm past it (the wall stops it)
+        # pull the footprint onto the wall's line, aiming 5 mm past it (the wall stops it)
         pos = state.pos[i]
         gap = (pos * n).sum(1) - room.normal_offset[wall] - np.abs(fn) * hd - np.abs(rn) * hw
-        force = n * (-w * _ramp(gap + 0.01))[:, None]
+        force = n * (-w * _ramp(gap + 0.005, HARD_GAIN))[:, None]
         # slide back along the wall if the footprint reaches beyond its ends
         along = (pos * t).sum(1) - room.tangent_offset[wall]
         half = np.abs(rn) * hd + np.abs(fn) * hw  # extent along the wall
         out = np.maximum(half - along, 0.0) - np.maximum(along + half - room.length[wall], 0.0)
-        force += t * (w * np.clip(out * GAIN, -CAP, CAP))[:, None]
+        force += t * (w * np.clip(out * HARD_GAIN, -CAP, CAP))[:, None]
         # turn the front to the wall's inward normal
         err = np.arctan2(-rn, fn)
         return force, w * 0.8 * np.clip(err, -1.5, 1.5)

@@ -124,6 +124,14 @@ class ForceModel:
             self.groups.append(RuleGroup(rule, i, j, ParamArrays.from_models(params, w),
                                          np.array(ks, dtype=int)))
 
+        # pairs that a binary rule relates may stand close; others keep walking room apart
+        related = np.zeros((n, n), dtype=bool)
+        for g in self.groups:
+            if g.j is not None:
+                related[g.i, g.j] = related[g.j, g.i] = True
+        w = self.physical_weights
+        self.pair_reach = np.where(related[self.pi, self.pj], w.related_range, w.repulsion_range)
+
     @property
     def n(self) -> int:
         """Number of simulated objects."""
@@ -155,7 +163,7 @@ class ForceModel:
         not.
         """
         f, tau = self.semantic(state, temperature)
-        fp, tp = physical(state, self.pi, self.pj, self.physical_weights)
+        fp, tp = physical(state, self.pi, self.pj, self.physical_weights, self.pair_reach)
         return f + fp, tau + tp
 
     def satisfied(self, state: State) -> dict[int, bool]:

@@ -16,7 +16,7 @@ import shapely
 from forcelayout import geometry as geo
 from forcelayout.forces import ForceModel
 
-__all__ = ["CLOSE_RULES", "parents", "initial_poses"]
+__all__ = ["CLOSE_RULES", "parents", "initial_poses", "propose_poses"]
 
 #: Binary rules whose object should start near its target, strongest bond first.
 CLOSE_RULES = ("next_to", "around", "in_front_of", "behind", "left_of", "right_of", "near",
@@ -66,16 +66,180 @@ def _order(parent: np.ndarray, area: np.ndarray) -> list[int]:
     return sorted(range(parent.shape[0]), key=lambda r: (depth[r], -area[r], r))
 
 
-def initial_poses(
-    model: ForceModel, rng: np.random.Generator, *, tries: int = 24, spread: float = 0.3
-) -> tuple[np.ndarray, np.ndarray]:
-    """Random start poses inside the room, children near their parents.
+_SIDE_RULES = {"next_to", "left_of", "right_of"}
 
-    Each object draws ``tries`` candidate poses at once (uniform in the room,
-    or for a child: around its parent, at most ``spread`` metres beyond
-    touching) and keeps the first whose footprint lies inside the floor and
-    clear of the objects placed so far, else the candidate with the most
-    clearance. Nothing loops beyond ``tries`` draws per object.
+
+def _rules_by_object(model: ForceModel) -> list[dict[str, list[int]]]:
+    """For each row: ``{rule name: [target rows or -1]}`` of its simulated bindings."""
+    out: list[dict[str, list[int]]] = [{} for _ in range(model.n)]
+    for g in model.groups:
+        js = g.j.tolist() if g.j is not None else [-1] * len(g.i)
+        for i, j in zip(g.i.tolist(), js, strict=True):
+            out[i].setdefault(g.rule.name, []).append(j)
+    return out
+
+
+def _yaw_facing(direction: np.ndarray) -> np.ndarray:
+    """Yaw whose front (local +y) points along ``direction`` (K, 2)."""
+    return np.arctan2(-direction[:, 0], direction[:, 1])
+
+
+def _snap_to_wall(
+    room, cand: np.ndarray, half: np.ndarray, walls: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Put candidates' backs against a wall (the nearest, or ``walls``), fronts inward."""
+    if walls is None:
+        s = cand @ room.normal.T - room.normal_offset
+        t = cand @ room.tangent.T - room.tangent_offset
+        beyond = np.maximum(np.maximum(-t, t - room.length), 0.0)
+        walls = np.argmin(np.abs(s) + beyond + (room.length < 2 * half[0]) * 100.0, axis=1)
+    n, tan = room.normal[walls], room.tangent[walls]
+    along = (cand * tan).sum(1) - room.tangent_offset[walls]
+    lo = np.minimum(half[0], room.length[walls] * 0.5)
+    along = np.clip(along, lo, room.length[walls] - lo)
+    pos = room.a[walls] + tan * along[:, None] + n * (half[1] + 0.01)
+    return pos, _yaw_facing(n)
+
+
+def _wall_candidates(
+    room,
+    rng: np.random.Generator,
+    k: int,
+    half: np.ndarray,
+    near: np.ndarray | None,
+    margin: float = 0.0,
+) -> tuple[np.ndarray, np.ndarray]:
+    """``k`` poses with the back against a random wall (near ``near`` points if given).
+
+    ``margin`` metres of wall are left free on both sides (room for objects
+    that stand beside this one, e.g. nightstands beside a bed).
+    """
+    if near is not None and len(near):
+        pick = near[rng.integers(0, len(near), k)]
+        cand = pick + rng.normal(0.0, 0.6, (k, 2))
+        return _snap_to_wall(room, cand, half)
+    need = 2 * (half[0] + margin) + 0.02
+    ok = room.length >= need
+    if not ok.any():
+        ok, need = room.length >= 2 * half[0] + 0.02, 2 * half[0] + 0.02
+    weight = np.where(ok, room.length, 0.0)
+    if weight.sum() <= 0:
+        weight = room.length.copy()
+    walls = rng.choice(room.n_walls, size=k, p=weight / weight.sum())
+    slack = np.maximum(room.length[walls] - need, 0.0)
+    along = 0.5 * need + rng.uniform(0.0, 1.0, k) * slack
+    cand = room.a[walls] + room.tangent[walls] * along[:, None]
+    return _snap_to_wall(room, cand, half, walls)
+
+
+def _corner_candidates(
+    room, rng: np.random.Generator, k: int, half: np.ndarray
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """``k`` poses tucked into random convex corners, backs against one of the walls."""
+    t_prev = np.roll(room.tangent, 1, axis=0)
+    cross = t_prev[:, 0] * room.tangent[:, 1] - t_prev[:, 1] * room.tangent[:, 0]
+    convex = np.flatnonzero(cross * np.sign(room.signed_area) > 1e-9)
+    if convex.size == 0:
+        return None
+    v = convex[rng.integers(0, convex.size, k)]
+    w1, w2 = (v - 1) % room.n_walls, v  # the two walls meeting at vertex v
+    back_first = rng.random(k) < 0.5
+    wb = np.where(back_first, w1, w2)  # wall behind the object
+    ws = np.where(back_first, w2, w1)  # wall at its side
+    pos = room.a[v] + room.normal[wb] * (half[1] + 0.01) + room.normal[ws] * (half[0] + 0.01)
+    return pos, _yaw_facing(room.normal[wb])
+
+
+def _back_wall(room, p: np.ndarray, yaw: float, half: np.ndarray) -> int:
+    """The wall an object at pose (p, yaw) stands with its back against, or -1."""
+    f = np.array([-np.sin(yaw), np.cos(yaw)])
+    s = room.normal @ p - room.normal_offset - half[1]
+    t = room.tangent @ p - room.tangent_offset
+    ok = (room.normal @ f > 0.9) & (np.abs(s) < 0.15) & (t > -0.1) & (t < room.length + 0.1)
+    return int(np.flatnonzero(ok)[np.argmin(np.abs(s[ok]))]) if ok.any() else -1
+
+
+def _child_candidates(room, rng, k, names, q, r, pos, yaw, half, radius, spread):
+    """Poses for object ``r`` around its parent ``q``, laid out as its rules ask."""
+    fq = np.array([-np.sin(yaw[q]), np.cos(yaw[q])])
+    rq = np.array([np.cos(yaw[q]), np.sin(yaw[q])])
+    side = np.where(rng.random(k) < 0.5, -1.0, 1.0)
+    if "right_of" in names:
+        side[:] = 1.0
+    elif "left_of" in names:
+        side[:] = -1.0
+    gap = rng.uniform(0.02, 0.1, k)[:, None]
+    same = np.full(k, yaw[q])
+    if names.keys() & {"in_front_of", "behind"}:
+        sign = -1.0 if "behind" in names else 1.0
+        dist = half[q, 1] + half[r, 1] + rng.uniform(0.1, 0.1 + spread, k)
+        cand = pos[q] + sign * fq * dist[:, None] + rq * rng.normal(0.0, 0.15, (k, 1))
+        cyaw = _yaw_facing(pos[q] - cand) if "facing" in names else same
+        return cand, cyaw
+    if names.keys() & _SIDE_RULES:
+        wall = _back_wall(room, pos[q], yaw[q], half[q]) if "at_wall" in names else -1
+        cand = pos[q] + rq * (side[:, None] * (half[q, 0] + half[r, 0] + gap))
+        if wall >= 0:
+            return _snap_to_wall(room, cand, half[r], np.full(k, wall))
+        return cand, same
+    if "at_wall" in names and "facing" in names:  # across the room, on the wall it faces
+        span = float(np.hypot(*(room.bounds[2:] - room.bounds[:2])))
+        cand = pos[q] + fq * rng.uniform(1.0, span, (k, 1)) + rq * rng.normal(0.0, 0.3, (k, 1))
+        cand, cyaw = _snap_to_wall(room, cand, half[r])
+        return cand, cyaw
+    ang = rng.uniform(-np.pi, np.pi, k)
+    dist = radius[q] * 0.8 + radius[r] + rng.uniform(0.0, spread, k)
+    cand = pos[q] + dist[:, None] * np.stack([np.cos(ang), np.sin(ang)], axis=1)
+    if "at_wall" in names:
+        return _snap_to_wall(room, cand, half[r])
+    if names.keys() & {"facing", "around"}:
+        return cand, _yaw_facing(pos[q] - cand)
+    if names.keys() & {"face_same_as", "aligned_with"}:
+        return cand, same
+    return cand, rng.uniform(-np.pi, np.pi, k)
+
+
+def initial_poses(
+    model: ForceModel,
+    rng: np.random.Generator,
+    *,
+    tries: int = 16,
+    spread: float = 0.3,
+    restarts: int = 3,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Random start poses that already lean towards the rules; the best of ``restarts``.
+
+    Draws ``restarts`` independent starts with :func:`propose_poses` and keeps
+    the one that meets the most of the model's rules (the first on ties), so
+    a bed that landed in a corner with no room for its second nightstand is
+    tried elsewhere before any simulation time is spent on it.
+    """
+    best, best_score = None, -1
+    for _ in range(max(1, restarts)):
+        pos, yaw = propose_poses(model, rng, tries=tries, spread=spread)
+        score = sum(model.satisfied(model.state(pos, yaw)).values())
+        if score > best_score:
+            best, best_score = (pos, yaw), score
+    return best  # type: ignore[return-value]
+
+
+def propose_poses(
+    model: ForceModel, rng: np.random.Generator, *, tries: int = 16, spread: float = 0.3
+) -> tuple[np.ndarray, np.ndarray]:
+    """Random start poses inside the room that already lean towards the rules.
+
+    Objects are placed parents first. Each draws ``tries`` candidate poses
+    at once from a proposal chosen by its rules — a child around its parent
+    (at most ``spread`` metres beyond touching), an ``in_corner`` object in a
+    random convex corner, an ``at_wall`` object against a random wall (near
+    the window or door if it should be), an ``in_middle`` object near the
+    centroid, anything else uniformly in the room; objects that should stand
+    at a wall are turned with their backs to it, objects that face a target
+    are turned towards it. The first candidate whose footprint lies inside
+    the floor, clear of the objects placed so far and of the door swing
+    squares is kept (else the one with the most clearance), so the start is
+    random — which wall, which corner, where along it — but close to a valid
+    arrangement. Nothing loops beyond ``tries`` draws per object.
 
     Returns
     -------
@@ -91,39 +255,71 @@ def initial_poses(
     half = model.size[:, :2] * 0.5
     radius = np.hypot(half[:, 0], half[:, 1])
     parent = parents(model)
+    rules = _rules_by_object(model)
     order = _order(parent, model.size[:, 0] * model.size[:, 1])
+    # wall length to keep free beside a parent for children standing beside it
+    margin = np.zeros(n)
+    for c in range(n):
+        if parent[c] >= 0 and "at_wall" in rules[c] and rules[c].keys() & _SIDE_RULES:
+            margin[parent[c]] = max(margin[parent[c]], model.size[c, 0] + 0.1)
     lo, hi = room.bounds[:2], room.bounds[2:]
     floor = room.shape
     shapely.prepare(floor)
+    dc, dr, df, dh = room.door_squares
     placed: list[int] = []
     for r in order:
-        cand = rng.uniform(lo, hi, (tries, 2))
-        if parent[r] >= 0:  # near the parent first, anywhere as a fall-back
-            q = parent[r]
-            ang = rng.uniform(-np.pi, np.pi, tries)
-            dist = radius[q] * 0.8 + radius[r] + rng.uniform(0.0, spread, tries)
-            near = pos[q] + dist[:, None] * np.stack([np.cos(ang), np.sin(ang)], axis=1)
-            cand = np.concatenate([near, cand[: tries // 2]])
-        cand_yaw = np.full(len(cand), yaw[r])
-        c, s = np.cos(cand_yaw), np.sin(cand_yaw)
-        rgt = np.stack([c, s], axis=1) * half[r, 0]
-        fwd = np.stack([-s, c], axis=1) * half[r, 1]
-        corners = np.stack([cand - rgt - fwd, cand + rgt - fwd, cand + rgt + fwd,
-                            cand - rgt + fwd], axis=1)
+        names = rules[r]
+        q = int(parent[r])
+        cyaw = rng.uniform(-np.pi, np.pi, tries)
+        corner = _corner_candidates(room, rng, tries, half[r]) if "in_corner" in names else None
+        if corner is not None:
+            cand, cyaw = corner
+        elif q >= 0:
+            cand, cyaw = _child_candidates(room, rng, tries, names, q, r, pos, yaw, half,
+                                           radius, spread)
+        elif "at_wall" in names:
+            near = None
+            if "near_window" in names and len(room.windows):
+                near = room.windows.centre
+            elif "near_door" in names and len(room.doors):
+                near = room.doors.centre
+            cand, cyaw = _wall_candidates(room, rng, tries, half[r], near, margin[r])
+        elif "near_window" in names and len(room.windows):
+            cand = room.windows.centre[rng.integers(0, len(room.windows), tries)] \
+                + rng.normal(0.0, 0.6, (tries, 2))
+        elif "in_middle" in names:
+            cand = room.centroid + rng.normal(0.0, 0.3, (tries, 2))
+        else:
+            cand = rng.uniform(lo, hi, (tries, 2))
+        # a few uniform fall-backs after the proposals
+        extra = tries // 2
+        cand = np.concatenate([cand, rng.uniform(lo, hi, (extra, 2))])
+        cyaw = np.concatenate([cyaw, rng.uniform(-np.pi, np.pi, extra)])
+        c, s = np.cos(cyaw), np.sin(cyaw)
+        rgt = np.stack([c, s], axis=1)
+        fwd = np.stack([-s, c], axis=1)
+        # judge the footprint widened by the room its side children need
+        reserve = half[r] + np.array([margin[r], 0.0])
+        hr, hf = rgt * reserve[0], fwd * reserve[1]
+        corners = np.stack([cand - hr - hf, cand + hr - hf, cand + hr + hf, cand - hr + hf],
+                           axis=1)
         inside = shapely.contains(floor, shapely.polygons(corners))
         clear = np.full(len(cand), 0.3)
         if placed:
             others = model.state(pos[placed], yaw[placed])
             others.size = model.size[placed]
-            oc = others.corners  # (P, 4, 2)
-            sep = geo.box_separation(corners[:, None], oc[None, :])  # (tries, P)
+            sep = geo.box_separation(corners[:, None], others.corners[None, :])
             clear = np.minimum(clear, sep.min(axis=1))
+        if len(dc):
+            dsep = geo.obb_separation(dc[None] - cand[:, None], rgt[:, None], fwd[:, None],
+                                      reserve[None, None], dr[None], df[None], dh[None])
+            clear = np.minimum(clear, dsep.min(axis=1))
         score = np.where(inside, clear, -np.inf)
         good = np.flatnonzero(score >= 0.05)
         k = int(good[0]) if good.size else int(np.argmax(score))
-        if not np.isfinite(score[k]):  # no candidate inside the floor: fall back to the centroid
+        if np.isfinite(score[k]):
+            pos[r], yaw[r] = cand[k], cyaw[k]
+        else:  # no candidate inside the floor: the centroid, and let the walls push
             pos[r] = room.centroid
-        else:
-            pos[r] = cand[k]
         placed.append(r)
     return pos, yaw

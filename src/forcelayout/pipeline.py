@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from forcelayout.forces import ForceModel
+from forcelayout.initial import initial_poses
 from forcelayout.layout import Pose
 from forcelayout.plan import Plan
 from forcelayout.solver import simulate
@@ -49,45 +50,6 @@ class Placement:
     converged: bool = True
     missing: list[str] = field(default_factory=list)
     stages: dict[str, float] = field(default_factory=dict)
-
-
-def initial_poses(
-    model: ForceModel, rng: np.random.Generator, *, tries: int = 40
-) -> tuple[np.ndarray, np.ndarray]:
-    """Random start poses inside the room, avoiding overlaps where possible.
-
-    Objects are placed largest first at uniformly random positions and
-    headings; each gets at most ``tries`` draws, keeping the draw with the
-    least overlap (so this never loops forever on a crowded plan).
-    """
-    room = model.room
-    n = model.n
-    pos = np.zeros((n, 2))
-    yaw = rng.uniform(-np.pi, np.pi, n)
-    lo, hi = room.bounds[:2], room.bounds[2:]
-    order = np.argsort(-(model.size[:, 0] * model.size[:, 1]), kind="stable")
-    placed: list[int] = []
-    for r in order:
-        best, best_score = None, -np.inf
-        for _ in range(tries):
-            p = rng.uniform(lo, hi)
-            st = model.state(np.vstack([pos, p[None]]), np.append(yaw, yaw[r]))
-            st.size = np.vstack([model.size, model.size[r:r + 1]])
-            c = st.corners[-1]
-            if not room.contains(np.vstack([c, p[None]])).all():
-                continue
-            d, _ = room.wall_distance(c)
-            score = min(float(d.min()), 0.3)
-            if placed:
-                sep = st.separation(np.full(len(placed), n), np.array(placed))
-                score = min(score, float(sep.min()))
-            if score > best_score:
-                best, best_score = p, score
-            if score >= 0.05:
-                break
-        pos[r] = best if best is not None else room.centroid
-        placed.append(int(r))
-    return pos, yaw
 
 
 _PREPARED: dict[int, Plan] = {}

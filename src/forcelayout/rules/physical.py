@@ -31,7 +31,13 @@ class PhysicalWeights:
         Strength of the logarithmic repulsion between footprints (the
         strongest term, per the paper).
     repulsion_range : float
-        Clearance in metres below which repulsion acts.
+        Clearance in metres below which repulsion acts between objects that
+        no rule relates: about an agent's width, so unrelated objects either
+        stand apart far enough to walk between or are pushed together by
+        their own rules.
+    related_range : float
+        The same for pairs that a binary rule relates (``next_to``, ...),
+        which may stand close.
     repulsion_floor : float
         Clearance in metres below which the repulsion stops growing. Box2D
         contacts keep bodies apart; the floor keeps the explicit step stable.
@@ -48,7 +54,8 @@ class PhysicalWeights:
     """
 
     repulsion: float = 1.5
-    repulsion_range: float = 0.12
+    repulsion_range: float = 0.4
+    related_range: float = 0.08
     repulsion_floor: float = 0.04
     boundary: float = 2e-5
     boundary_range: float = 0.08
@@ -61,6 +68,7 @@ class PhysicalWeights:
         return PhysicalWeights(
             repulsion=self.repulsion * overrides.get("repulsion", 1.0),
             repulsion_range=self.repulsion_range,
+            related_range=self.related_range,
             repulsion_floor=self.repulsion_floor,
             boundary=self.boundary * overrides.get("boundary", 1.0),
             boundary_range=self.boundary_range,
@@ -76,27 +84,32 @@ def _torque(r: np.ndarray, f: np.ndarray) -> np.ndarray:
 
 
 def repulsion(
-    state: State, pi: np.ndarray, pj: np.ndarray, w: PhysicalWeights
+    state: State,
+    pi: np.ndarray,
+    pj: np.ndarray,
+    w: PhysicalWeights,
+    reach: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Short-range logarithmic repulsion between all pairs ``(pi, pj)``.
 
     The force on each body of a pair grows as ``w.repulsion * ln(r0 / g)`` as
-    the clearance ``g`` falls below ``r0 = w.repulsion_range`` (floored at
-    ``w.repulsion_floor``), pointing from the other body's centre to its own;
-    zero beyond ``r0``.
+    the clearance ``g`` falls below the pair's range ``r0`` (``reach``, by
+    default ``w.repulsion_range``; floored at ``w.repulsion_floor``), pointing
+    from the other body's centre to its own; zero beyond ``r0``.
     """
     n = state.n
     if pi.size == 0:
         return np.zeros((n, 2)), np.zeros(n)
+    r0 = np.full(pi.shape, w.repulsion_range) if reach is None else reach
     sep = state.separation(pi, pj)
-    active = sep < w.repulsion_range
+    active = sep < r0
     f = np.zeros((n, 2))
     if not active.any():
         return f, np.zeros(n)
-    pi, pj, sep = pi[active], pj[active], sep[active]
+    pi, pj, sep, r0 = pi[active], pj[active], sep[active], r0[active]
     d = state.pos[pi] - state.pos[pj]
     u = d / np.maximum(np.sqrt((d * d).sum(1)), 1e-9)[:, None]
-    fi = u * (w.repulsion * np.log(w.repulsion_range / np.maximum(sep, w.repulsion_floor)))[:, None]
+    fi = u * (w.repulsion * np.log(r0 / np.maximum(sep, w.repulsion_floor)))[:, None]
     np.add.at(f, pi, fi)
     np.add.at(f, pj, -fi)
     return f, np.zeros(n)
@@ -165,12 +178,19 @@ def door_clearance(state: State, w: PhysicalWeights) -> tuple[np.ndarray, np.nda
 
 
 def physical(
-    state: State, pi: np.ndarray, pj: np.ndarray, w: PhysicalWeights
+    state: State,
+    pi: np.ndarray,
+    pj: np.ndarray,
+    w: PhysicalWeights,
+    reach: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Sum of all always-on terms: repulsion, boundary, alignment, door clearance."""
+    """Sum of all always-on terms: repulsion, boundary, alignment, door clearance.
+
+    ``reach`` gives each pair's repulsion range (see :func:`repulsion`).
+    """
     f = np.zeros((state.n, 2))
     tau = np.zeros(state.n)
-    for fk, tk in (repulsion(state, pi, pj, w), boundary(state, w), alignment(state, w),
+    for fk, tk in (repulsion(state, pi, pj, w, reach), boundary(state, w), alignment(state, w),
                    door_clearance(state, w)):
         f += fk
         tau += tk

@@ -45,3 +45,13 @@ __all__ = [
     "MissingExtraError",
 ]
 __version__ = "0.1.0"
+
+_LAZY = {"metrics", "validate", "render", "testing"}
+
+
+def __getattr__(name: str):  # submodules loaded on first use: `fl.metrics`, `fl.validate`, ...
+    if name in _LAZY:
+        import importlib
+
+        return importlib.import_module(f"forcelayout.{name}")
+    raise AttributeError(f"module 'forcelayout' has no attribute {name!r}")

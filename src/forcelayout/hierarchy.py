@@ -442,7 +442,7 @@ def assemble(
     steps : int
     converged : bool
     """
-    from forcelayout.pipeline import initial_poses
+    from forcelayout.initial import initial_poses
 
     cfg = solver or SolverConfig()
     sub, units, _ = _unit_plan(plan, variants, relations)
@@ -450,7 +450,8 @@ def assemble(
     p0, y0 = initial_poses(model, rng)
     y0 = np.round(y0 / (np.pi / 2)) * (np.pi / 2)  # rectangles start square to the room
     p0 = _push_inside(model.room, p0, y0, model.size[:, :2] * 0.5)
-    res = simulate(model, p0, y0, cfg)
+    doors = _door_obstacles(model.room)
+    res = simulate(model, p0, y0, cfg, obstacles=doors)
     steps, converged = res.steps, res.converged
     floor = [o.id for o in plan.floor_objects()]
     row = {u: k for k, u in enumerate(units)}
@@ -471,10 +472,16 @@ def assemble(
     full = ForceModel(plan, floor, relations=relations)
     pos = _push_inside(full.room, pos, yaw, full.size[:, :2] * 0.5)
     polish = replace(cfg, max_steps=max(1, min(cfg.max_steps, settle_steps)))
-    res2 = simulate(full, pos, yaw, polish)
+    res2 = simulate(full, pos, yaw, polish, obstacles=doors)
     poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
              for oid, p, y in zip(floor, res2.pos, res2.yaw, strict=True)}
     return poses, steps + res2.steps, converged and res2.converged
+
+
+def _door_obstacles(room: RoomGeometry) -> list[np.ndarray]:
+    """Each door's swing square as a static polygon, so no area rectangle settles in it."""
+    c, r, f, h = room.door_squares
+    return list(box_corners(c, np.arctan2(r[:, 1], r[:, 0]), h * 0.999)) if len(c) else []
 
 
 def _push_inside(room: RoomGeometry, pos: np.ndarray, yaw: np.ndarray, half: np.ndarray,

@@ -31,6 +31,10 @@ CAP = 1.5
 #: few centimetres of their goal, so a soft pull (weight x CAP at most) cannot hold them
 #: off it.
 HARD_GAIN = 20.0
+#: Torque per radian of heading error of the hard placement rules (times the weight):
+#: stronger than the soft orientation rules' (facing: 5 x 1.5), so a soft torque cannot
+#: turn an object's back off its wall.
+TURN_HARD = 3.0
 
 
 def _ramp(excess: np.ndarray, gain: float = GAIN) -> np.ndarray:
@@ -137,7 +141,7 @@ class AtWall(Rule):
         force += t * (w * np.clip(out * HARD_GAIN, -CAP, CAP))[:, None]
         # turn the front to the wall's inward normal
         err = np.arctan2(-rn, fn)
-        return force, w * 0.8 * np.clip(err, -1.5, 1.5)
+        return force, w * TURN_HARD * np.clip(err, -1.5, 1.5)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         room = state.room
@@ -179,7 +183,7 @@ class InCorner(Rule):
         # turn to the nearest multiple of 90 degrees relative to the corner's walls
         rel = 4.0 * (angle[c] - state.yaw[i])
         err = np.arctan2(np.sin(rel), np.cos(rel)) / 4.0
-        return f, w * 0.8 * err
+        return f, w * TURN_HARD * err
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         room = state.room

@@ -426,14 +426,16 @@ def assemble(
     *,
     relations: bool = True,
     solver: SolverConfig | None = None,
+    arrange_steps: int = 150,
     settle_steps: int = 150,
 ) -> tuple[dict[str, Pose], int, bool]:
     """Instantiate one combination of area variants in the room.
 
-    A room-level simulation arranges the variants' bounding rectangles (with
-    their areas' rules) and the floor objects outside any area; every member
-    is carried into the room; then all floor objects settle together for at
-    most ``settle_steps`` steps under every rule of the plan.
+    A room-level simulation (at most ``arrange_steps`` steps) arranges the
+    variants' bounding rectangles (with their areas' rules) and the floor
+    objects outside any area, with the doors' swing squares as obstacles;
+    every member is carried into the room; then all floor objects settle
+    together for at most ``settle_steps`` steps under every rule of the plan.
 
     Returns
     -------
@@ -451,7 +453,8 @@ def assemble(
     y0 = np.round(y0 / (np.pi / 2)) * (np.pi / 2)  # rectangles start square to the room
     p0 = _push_inside(model.room, p0, y0, model.size[:, :2] * 0.5)
     doors = _door_obstacles(model.room)
-    res = simulate(model, p0, y0, cfg, obstacles=doors)
+    arrange = replace(cfg, max_steps=max(1, min(cfg.max_steps, arrange_steps)))
+    res = simulate(model, p0, y0, arrange, obstacles=doors)
     steps, converged = res.steps, res.converged
     floor = [o.id for o in plan.floor_objects()]
     row = {u: k for k, u in enumerate(units)}

@@ -39,7 +39,7 @@ TURN_CAP = 1.5
 
 
 def _turn(err: np.ndarray, dead: np.ndarray, w: np.ndarray) -> np.ndarray:
-    """Torque reducing heading error ``err`` (radians) beyond a dead band ``dead``."""
+    """Torque reducing heading error `err` (radians) beyond a dead band `dead`."""
     e = np.sign(err) * np.maximum(np.abs(err) - dead, 0.0)
     return w * TURN * np.clip(e, -TURN_CAP, TURN_CAP)
 
@@ -51,7 +51,7 @@ def _facing_error(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
 
 
 def _gap_estimate(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
-    """Fast lower bound of the footprint gap between ``i`` and ``j``, metres.
+    """Fast lower bound of the footprint gap between `i` and `j`, metres.
 
     The gap between footprint ``i`` and the bounding box of footprint ``j``
     in ``i``'s frame: exact when the two footprints are parallel (the usual
@@ -83,7 +83,7 @@ class _Distance(Rule):
 
 
 class NextTo(_Distance):
-    """Beside the target: footprint gap at most ``distance`` metres."""
+    """Beside the target: footprint gap at most `distance` metres."""
 
     weight = 1.5
 
@@ -98,7 +98,7 @@ class NextTo(_Distance):
 
 
 class Near(_Distance):
-    """Near the target: footprint gap at most ``distance`` metres (a soft relation)."""
+    """Near the target: footprint gap at most `distance` metres (a soft relation)."""
 
     weight = 1.0
 
@@ -113,7 +113,7 @@ class Near(_Distance):
 
 
 class FarFrom(Rule):
-    """Far from the target: footprint gap at least ``distance`` metres.
+    """Far from the target: footprint gap at least `distance` metres.
 
     Both objects are pushed apart (``reaction`` 0.5).
     """
@@ -144,7 +144,7 @@ class FarFrom(Rule):
 
 
 class Facing(Rule):
-    """Turned towards the target: its centre within ``max_angle`` degrees of the front.
+    """Turned towards the target: its centre within `max_angle` degrees of the front.
 
     A torque only: it turns the object until the target's centre lies well
     inside the cone; the object does not move.
@@ -168,7 +168,7 @@ class Facing(Rule):
 
 
 class FaceSameAs(Rule):
-    """Facing the same way as the target: headings within ``max_angle`` degrees.
+    """Facing the same way as the target: headings within `max_angle` degrees.
 
     A torque only (e.g. a row of bookshelves or chairs in a row).
     """
@@ -256,7 +256,7 @@ class _Side(Rule):
 
 
 class InFrontOf(_Side):
-    """In front of the target: in its front half-plane, within ``distance`` metres of it.
+    """In front of the target: in its front half-plane, within `distance` metres of it.
 
     Satisfied when the object's centre lies beyond the target's front edge,
     the footprint gap is at most ``distance``, and the centre is within the
@@ -267,7 +267,7 @@ class InFrontOf(_Side):
 
 
 class Behind(_Side):
-    """Behind the target: beyond its back edge, within ``distance`` metres of it.
+    """Behind the target: beyond its back edge, within `distance` metres of it.
 
     Satisfied when the object's centre lies beyond the target's back edge,
     the footprint gap is at most ``distance``, and the centre is within the
@@ -278,7 +278,7 @@ class Behind(_Side):
 
 
 class LeftOf(_Side):
-    """Left of the target (its local -x, seen from behind it), within ``distance`` metres.
+    """Left of the target (its local -x, seen from behind it), within `distance` metres.
 
     Satisfied when the object's centre lies beyond the target's left side,
     the footprint gap is at most ``distance``, and the centre is within the
@@ -289,7 +289,7 @@ class LeftOf(_Side):
 
 
 class RightOf(_Side):
-    """Right of the target (its local +x, seen from behind it), within ``distance`` metres.
+    """Right of the target (its local +x, seen from behind it), within `distance` metres.
 
     Satisfied when the object's centre lies beyond the target's right side,
     the footprint gap is at most ``distance``, and the centre is within the

@@ -38,19 +38,19 @@ TURN_HARD = 3.0
 
 
 def _ramp(excess: np.ndarray, gain: float = GAIN) -> np.ndarray:
-    """Clipped linear pull: 0 for ``excess <= 0``, ``gain * excess`` up to ``CAP``."""
+    """Clipped linear pull: 0 for `excess <= 0`, `gain * excess` up to `CAP`."""
     return np.minimum(np.maximum(excess, 0.0) * gain, CAP)
 
 
 def _signed_angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Angle from unit vectors ``a`` to ``b``, radians CCW in [-pi, pi]."""
+    """Angle from unit vectors `a` to `b`, radians CCW in [-pi, pi]."""
     cross = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
     dot = (a * b).sum(-1)
     return np.arctan2(cross, dot)
 
 
 def _extent(state: State, i: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """Half extent of footprints ``i`` along unit directions ``u`` (B, 2), metres."""
+    """Half extent of footprints `i` along unit directions `u` (B, 2), metres."""
     f, h = state.front[i], state.size[i]
     fx, fy, ux, uy = f[:, 0], f[:, 1], u[:, 0], u[:, 1]
     # right = (fy, -fx)
@@ -59,7 +59,7 @@ def _extent(state: State, i: np.ndarray, u: np.ndarray) -> np.ndarray:
 
 
 def _unit(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unit vectors of ``d`` (B, 2) and their lengths; zero vectors map to +x."""
+    """Unit vectors of `d` (B, 2) and their lengths; zero vectors map to +x."""
     n = np.sqrt((d * d).sum(1))
     u = d / np.maximum(n, 1e-9)[:, None]
     u[n < 1e-9] = (1.0, 0.0)
@@ -68,7 +68,7 @@ def _unit(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _wall_pull(state: State, i: np.ndarray, wall: np.ndarray, w: np.ndarray,
                inside: float = 0.005) -> np.ndarray:
-    """Force pulling footprints ``i`` flat against walls ``wall`` (one per binding).
+    """Force pulling footprints `i` flat against walls `wall` (one per binding).
 
     The pull is along the wall's outward normal, proportional to the gap
     between the footprint and the wall's line, aiming ``inside`` metres past
@@ -85,7 +85,7 @@ _CORNERS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _convex_corners(state: State) -> tuple[np.ndarray, np.ndarray]:
-    """Indices ``k`` of convex room vertices and their positions (K, 2), cached per room.
+    """Indices `k` of convex room vertices and their positions (K, 2), cached per room.
 
     Vertex ``k`` joins wall ``k - 1`` (ending there) and wall ``k``.
     """
@@ -230,7 +230,7 @@ class InMiddle(Rule):
 
 
 class _NearOpening(Rule):
-    """Centre within ``distance`` of the nearest opening (doors or windows)."""
+    """Centre within `distance` of the nearest opening (doors or windows)."""
 
     kind = "unary"
     weight = 1.5
@@ -268,7 +268,7 @@ class _NearOpening(Rule):
 
 
 class NearWindow(_NearOpening):
-    """Near a window: centre within ``distance`` metres of the nearest window's centre.
+    """Near a window: centre within `distance` metres of the nearest window's centre.
 
     Never satisfied in a room without windows (and then applies no force).
     """
@@ -277,7 +277,7 @@ class NearWindow(_NearOpening):
 
 
 class NearDoor(_NearOpening):
-    """Near a door: centre within ``distance`` metres of the nearest door's centre.
+    """Near a door: centre within `distance` metres of the nearest door's centre.
 
     Never satisfied in a room without doors (and then applies no force). The
     always-on door clearance still keeps the door's swing square free.
@@ -287,7 +287,7 @@ class NearDoor(_NearOpening):
 
 
 class AwayFromDoor(Rule):
-    """Away from every door: centre at least ``distance`` metres from each door's centre.
+    """Away from every door: centre at least `distance` metres from each door's centre.
 
     Always satisfied in a room without doors. The force pushes the object
     away from the nearest door that is too close.

@@ -16,7 +16,7 @@ __all__ = ["NearPlant"]
 
 
 class NearPlant(Rule):
-    """Beside a potted plant: footprint gap to the target plant at most ``distance`` metres.
+    """Beside a potted plant: footprint gap to the target plant at most `distance` metres.
 
     A soft relation for reading corners (an armchair by a ficus). The force
     pulls the object towards the plant until the gap is a little below

@@ -44,12 +44,14 @@ class RuleGroup:
     j: np.ndarray | None
     params: ParamArrays
     spec_index: np.ndarray
-    _scaled: ParamArrays | None = field(default=None, repr=False)
+    unique_i: bool = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.unique_i = len(np.unique(self.i)) == len(self.i)
 
     def at_temperature(self, temperature: float) -> ParamArrays:
         """Params with the weights multiplied by the annealing temperature."""
-        p = ParamArrays(self.params._fields, self.params.weight * temperature)
-        return p
+        return ParamArrays(self.params._fields, self.params.weight * temperature)
 
 
 def binding_weight(plan: Plan, k: int, rule: Rule) -> float:
@@ -149,8 +151,12 @@ class ForceModel:
         for g in self.groups:
             p = g.at_temperature(temperature)
             fi, ti = g.rule.force(state, g.i, g.j, p)
-            np.add.at(f, g.i, fi)
-            np.add.at(tau, g.i, ti)
+            if g.unique_i:  # one binding per object: plain fancy-index add
+                f[g.i] += fi
+                tau[g.i] += ti
+            else:
+                np.add.at(f, g.i, fi)
+                np.add.at(tau, g.i, ti)
             if g.j is not None and g.rule.reaction:
                 np.add.at(f, g.j, -g.rule.reaction * fi)
         return f, tau

@@ -40,7 +40,8 @@ class Options:
     decor : bool
         ``False`` removes secondary (``decor``) objects (the −Decor ablation).
     min_rule_satisfaction : float
-        A sample meeting a smaller fraction of its rules is rejected.
+        A sample meeting a smaller fraction of its rules is rejected
+        (default 0.95: layouts that are valid *and* do what the plan says).
     check : bool
         Run the deterministic checks (collisions, inside the room, door
         clearance, navigability, reachability) and reject failures.
@@ -51,7 +52,7 @@ class Options:
     solver: SolverConfig = field(default_factory=SolverConfig)
     relations: bool = True
     decor: bool = True
-    min_rule_satisfaction: float = 0.0
+    min_rule_satisfaction: float = 0.95
     check: bool = True
     check_kwargs: dict[str, Any] = field(default_factory=dict)
 

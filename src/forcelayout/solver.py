@@ -69,8 +69,8 @@ class SolverConfig:
     max_turn: float = 3.0
     min_steps: int = 40
     max_steps: int = 400
-    tol_pos: float = 1e-3
-    tol_yaw: float = 2e-3
+    tol_pos: float = 2e-3
+    tol_yaw: float = 4e-3
     patience: int = 8
     velocity_iterations: int = 6
     position_iterations: int = 3

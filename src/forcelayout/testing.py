@@ -149,7 +149,7 @@ def rooms(
     return _rooms()
 
 
-def scene_objects(*, id: str | None = None, max_height: float = 2.3) -> Any:  # noqa: A002
+def scene_objects(*, id: str | None = None, max_height: float = 2.3) -> Any:
     """Strategy for :class:`~forcelayout.plan.SceneObject`: furniture of plausible size.
 
     Parameters

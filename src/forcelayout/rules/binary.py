@@ -41,13 +41,12 @@ TURN_CAP = 1.5
 def _turn(err: np.ndarray, dead: np.ndarray, w: np.ndarray) -> np.ndarray:
     """Torque reducing heading error `err` (radians) beyond a dead band `dead`."""
     e = np.sign(err) * np.maximum(np.abs(err) - dead, 0.0)
-    return w * TURN * np.clip(e, -TURN_CAP, TURN_CAP)
+    return (w * TURN) * np.minimum(np.maximum(e, -TURN_CAP), TURN_CAP)
 
 
 def _facing_error(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
     """Angle from each object's front to the direction of its target's centre, radians."""
-    u, _ = _unit(state.pos[j] - state.pos[i])
-    return _signed_angle(state.front[i], u)
+    return _signed_angle(state.front[i], state.pos[j] - state.pos[i])  # needs no unit vector
 
 
 def _gap_estimate(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
@@ -126,7 +125,7 @@ class FarFrom(Rule):
         distance: float = Field(2.0, gt=0, description="Smallest footprint gap, m.")
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
-        u, _ = _unit(state.pos[i] - state.pos[j])
+        u, _ = _unit(state.pos[i] - state.pos[j], fallback=True)
         target = p.distance + 0.1
         gap = _gap_estimate(state, i, j)  # a lower bound
         # an upper bound: the gap between the footprints' inscribed circles

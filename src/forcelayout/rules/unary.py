@@ -58,11 +58,16 @@ def _extent(state: State, i: np.ndarray, u: np.ndarray) -> np.ndarray:
             + np.abs(fy * ux - fx * uy) * (0.5 * h[:, 0]))
 
 
-def _unit(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unit vectors of `d` (B, 2) and their lengths; zero vectors map to +x."""
+def _unit(d: np.ndarray, fallback: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Unit vectors of `d` (B, 2) and their lengths.
+
+    Zero vectors stay zero, or map to +x with ``fallback=True`` (for pushes
+    that need a direction even at a shared centre).
+    """
     n = np.sqrt((d * d).sum(1))
     u = d / np.maximum(n, 1e-9)[:, None]
-    u[n < 1e-9] = (1.0, 0.0)
+    if fallback:
+        u[n < 1e-9] = (1.0, 0.0)
     return u, n
 
 
@@ -138,10 +143,10 @@ class AtWall(Rule):
         along = (pos * t).sum(1) - room.tangent_offset[wall]
         half = np.abs(rn) * hd + np.abs(fn) * hw  # extent along the wall
         out = np.maximum(half - along, 0.0) - np.maximum(along + half - room.length[wall], 0.0)
-        force += t * (w * np.clip(out * HARD_GAIN, -CAP, CAP))[:, None]
+        force += t * (w * np.minimum(np.maximum(out * HARD_GAIN, -CAP), CAP))[:, None]
         # turn the front to the wall's inward normal
         err = np.arctan2(-rn, fn)
-        return force, w * TURN_HARD * np.clip(err, -1.5, 1.5)
+        return force, (w * TURN_HARD) * np.minimum(np.maximum(err, -1.5), 1.5)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         room = state.room
@@ -312,7 +317,7 @@ class AwayFromDoor(Rule):
         away = d[np.arange(b), k]
         # at a door's centre itself, push straight into the room
         away = np.where((away * away).sum(1, keepdims=True) < 1e-12, doors.normal[k], away)
-        u, dist = _unit(away)
+        u, dist = _unit(away, fallback=True)
         target = p.distance + 0.1
         return u * (p.weight * _ramp(target - dist))[:, None], np.zeros(b)
 

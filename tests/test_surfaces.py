@@ -185,3 +185,26 @@ def test_any_child_that_fits_lands_on_its_parent(seed, w, d):
     assert lay.poses["lamp"].surface == "nightstand"
     assert _inside_top(lay, "lamp", "nightstand")
     assert lay.poses["lamp"].z == pytest.approx(0.5)
+
+
+def test_ceiling_light_centred_over_an_area():
+    plan = fl.load_plan("bedroom").model_dump()
+    for r in plan["rules"]:
+        if r["rule"] == "on_ceiling":
+            r["target"] = "sleeping"
+    plan = fl.Plan.from_dict(plan)
+    for seed in range(3):
+        lay = fl.solve(plan, seed, check=False)
+        members = [o.id for o in plan.objects if o.area == "sleeping"
+                   and lay.poses[o.id].surface == "floor"]
+        centre = np.mean([[lay.poses[m].x, lay.poses[m].y] for m in members], axis=0)
+        light = lay.poses["ceiling_light"]
+        assert light.surface == "ceiling"
+        assert np.hypot(light.x - centre[0], light.y - centre[1]) <= 0.3
+
+
+def test_pinned_wall_that_does_not_exist_is_a_plan_error():
+    plan = copy.deepcopy(PLAN)
+    plan["rules"][5]["params"] = {"wall": 7}
+    with pytest.raises(PlanError, match=r"rules\[5\] \(on_wall_mid\)\.params\.wall.*walls 0\.\.3"):
+        check_surfaces(fl.Plan.from_dict(plan))

@@ -302,6 +302,11 @@ def area_variants(
     at_wall = {s.object for s in plan.rules if s.rule == "at_wall"}
     roots = {m for m in members if depth.get(m, 0) == 0}
     sub = _sub_plan(plan, _local_rules(plan, set(members), roots, relations))
+    facing: dict[str, list[str]] = {}
+    for s_ in plan.rules:
+        if s_.rule == "facing" and s_.object in roots and s_.target in roots:
+            facing.setdefault(s_.object, []).append(s_.target)  # type: ignore[arg-type]
+            facing.setdefault(s_.target, []).append(s_.object)  # type: ignore[arg-type]
     levels = sorted({depth.get(m, 0) for m in members})
     reach = size[:, :2].max(axis=1) / 2 + 0.02
     lo_c, hi_c = reach[:, None], np.array([side_w, side_d])[None, :] - reach[:, None]
@@ -312,6 +317,7 @@ def area_variants(
         steps = 0
         done = np.zeros(k, dtype=bool)
         first_wall = True
+        sides: dict[str, int] = {}
         for lev in levels[:k]:
             new = np.array([depth.get(m, 0) == lev for m in members])
             for r in np.flatnonzero(new):
@@ -332,8 +338,12 @@ def area_variants(
                     pos[r] = pos[q] + np.array([[c, -s_], [s_, c]]) @ off
                     yaw[r] = yaw[q]
                 elif members[r] in at_wall:  # the first against the area's back (local -y)
-                    side = 0 if first_wall else int(rng.integers(4))
+                    # facing another wall object: the opposite side; else the back first
+                    across = [sides[q] for q in facing.get(members[r], ()) if q in sides]
+                    side = ((across[0] + 2) % 4 if across else
+                            0 if first_wall else int(rng.integers(4)))
                     first_wall = False
+                    sides[members[r]] = side
                     pos[r], yaw[r] = _on_frame_wall(side, size[r], side_w, side_d, rng)
                 else:
                     pos[r] = rng.uniform(lo_c[r], np.maximum(hi_c[r], lo_c[r]))

@@ -142,8 +142,13 @@ def obb_separation(
 
 
 def separation_matrix(
-    pos: np.ndarray, right: np.ndarray, front: np.ndarray, half: np.ndarray
-) -> np.ndarray:
+    pos: np.ndarray,
+    right: np.ndarray,
+    front: np.ndarray,
+    half: np.ndarray,
+    *,
+    with_axis_gaps: bool = False,
+) -> np.ndarray | tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Separating-axis clearance between every pair of oriented rectangles.
 
     The all-pairs form of :func:`obb_separation`, built from a few (M, M)
@@ -156,8 +161,12 @@ def separation_matrix(
 
     Returns
     -------
-    ndarray, shape (M, M)
+    sep : ndarray, shape (M, M)
         Symmetric signed clearance in metres; the diagonal is meaningless.
+    along_right, along_front : ndarray, shape (M, M)
+        Only with ``with_axis_gaps``: ``[i, j]`` is the clearance between
+        footprint i and the bounding box of footprint j in i's frame, along
+        i's right and front axes.
     """
     pr = pos @ right.T  # [j, i] = pos_j . r_i
     pf = pos @ front.T
@@ -170,7 +179,8 @@ def separation_matrix(
     g1 = dr - hx[None, :] - (hx[:, None] * c + hy[:, None] * s)
     g2 = df - hy[None, :] - (hx[:, None] * s + hy[:, None] * c)
     g = np.maximum(g1, g2)
-    return np.maximum(g, g.T)
+    sep = np.maximum(g, g.T)
+    return (sep, g1.T, g2.T) if with_axis_gaps else sep
 
 
 def box_separation(ca: np.ndarray, cb: np.ndarray) -> np.ndarray:

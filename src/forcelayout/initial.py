@@ -210,16 +210,20 @@ def initial_poses(
     """Random start poses that already lean towards the rules; the best of ``restarts``.
 
     Draws ``restarts`` independent starts with :func:`propose_poses` and keeps
-    the one that meets the most of the model's rules (the first on ties), so
+    the one that meets the most of the model's rules (the first on ties, and
+    the first that meets them all ends the search), so
     a bed that landed in a corner with no room for its second nightstand is
     tried elsewhere before any simulation time is spent on it.
     """
     best, best_score = None, -1
     for _ in range(max(1, restarts)):
         pos, yaw = propose_poses(model, rng, tries=tries, spread=spread)
-        score = sum(model.satisfied(model.state(pos, yaw)).values())
+        met = model.satisfied(model.state(pos, yaw))
+        score = sum(met.values())
         if score > best_score:
             best, best_score = (pos, yaw), score
+        if score == len(met):  # every rule already met: no need to look further
+            break
     return best  # type: ignore[return-value]
 
 

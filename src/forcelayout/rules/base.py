@@ -122,14 +122,37 @@ class State:
         if m is None:
             dc, dr, df, dh = self.room.door_squares
             if len(dc):
-                m = geo.separation_matrix(np.concatenate([self.pos, dc]),
-                                          np.concatenate([self.right, dr]),
-                                          np.concatenate([self.front, df]),
-                                          np.concatenate([self.half, dh]))
+                m, g1, g2 = geo.separation_matrix(np.concatenate([self.pos, dc]),
+                                                  np.concatenate([self.right, dr]),
+                                                  np.concatenate([self.front, df]),
+                                                  np.concatenate([self.half, dh]),
+                                                  with_axis_gaps=True)
             else:
-                m = geo.separation_matrix(self.pos, self.right, self.front, self.half)
+                m, g1, g2 = geo.separation_matrix(self.pos, self.right, self.front, self.half,
+                                                  with_axis_gaps=True)
             self._cache["separations"] = m
+            self._cache["axis_gaps"] = (g1, g2)
         return m
+
+    @property
+    def gap_estimates(self) -> np.ndarray:
+        """Fast estimate of the footprint gap from each object to each other, shape (N, N).
+
+        ``[i, j]`` is the gap between footprint i and the bounding box of
+        footprint j in i's frame (Euclidean where they are apart on both of
+        i's axes): exact for parallel footprints, the usual case once objects
+        settle at cardinal angles, and never more than the true gap.
+        Negative values are overlap depths.
+        """
+        e = self._cache.get("gap_estimates")
+        if e is None:
+            self._separations()
+            g1, g2 = self._cache["axis_gaps"]
+            g1, g2 = g1[: self.n, : self.n], g2[: self.n, : self.n]
+            p1, p2 = np.maximum(g1, 0.0), np.maximum(g2, 0.0)
+            e = np.where((g1 > 0) & (g2 > 0), np.sqrt(p1 * p1 + p2 * p2), np.maximum(g1, g2))
+            self._cache["gap_estimates"] = e
+        return e
 
     @property
     def separations(self) -> np.ndarray:

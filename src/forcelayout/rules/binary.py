@@ -52,21 +52,11 @@ def _facing_error(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
 def _gap_estimate(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
     """Fast lower bound of the footprint gap between `i` and `j`, metres.
 
-    The gap between footprint ``i`` and the bounding box of footprint ``j``
-    in ``i``'s frame: exact when the two footprints are parallel (the usual
-    case once objects settle at cardinal angles), never more than the true
-    gap. Negative values are overlap depths.
+    See :attr:`State.gap_estimates`: exact when the two footprints are
+    parallel (the usual case once objects settle at cardinal angles), never
+    more than the true gap. Negative values are overlap depths.
     """
-    d = state.pos[j] - state.pos[i]
-    fi, fj, si, sj = state.front[i], state.front[j], state.size[i], state.size[j]
-    fix, fiy, fjx, fjy, dx, dy = fi[:, 0], fi[:, 1], fj[:, 0], fj[:, 1], d[:, 0], d[:, 1]
-    c = np.abs(fix * fjx + fiy * fjy)  # |cos| of the relative heading
-    s = np.abs(fix * fjy - fiy * fjx)  # |sin|
-    wj, dj = 0.5 * sj[:, 0], 0.5 * sj[:, 1]
-    g1 = np.abs(dx * fiy - dy * fix) - 0.5 * si[:, 0] - (c * wj + s * dj)  # along i's right
-    g2 = np.abs(dx * fix + dy * fiy) - 0.5 * si[:, 1] - (s * wj + c * dj)  # along i's front
-    p1, p2 = np.maximum(g1, 0.0), np.maximum(g2, 0.0)
-    return np.where((g1 > 0) & (g2 > 0), np.sqrt(p1 * p1 + p2 * p2), np.maximum(g1, g2))
+    return state.gap_estimates[i, j]
 
 
 class _Distance(Rule):

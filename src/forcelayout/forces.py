@@ -169,8 +169,12 @@ class ForceModel:
         not.
         """
         f, tau = self.semantic(state, temperature)
-        fp, tp = physical(state, self.pi, self.pj, self.physical_weights, self.pair_reach)
+        fp, tp = self.physical(state)
         return f + fp, tau + tp
+
+    def physical(self, state: State) -> tuple[np.ndarray, np.ndarray]:
+        """The always-on terms alone (repulsion, boundary, alignment, door clearance)."""
+        return physical(state, self.pi, self.pj, self.physical_weights, self.pair_reach)
 
     def satisfied(self, state: State) -> dict[int, bool]:
         """Whether each simulated binding is met: ``{plan rule index: bool}``."""

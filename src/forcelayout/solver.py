@@ -59,6 +59,11 @@ class SolverConfig:
         Consecutive quiet steps that mean convergence.
     velocity_iterations, position_iterations : int
         Box2D solver iterations.
+    semantic_interval : int
+        The rule forces are recomputed every this many steps and held in
+        between (multiple time stepping: the slow, soft semantic terms are
+        sampled less often than the stiff physical ones, which are computed
+        every step). 1 recomputes everything every step.
     """
 
     k: float = 0.02
@@ -74,12 +79,15 @@ class SolverConfig:
     patience: int = 8
     velocity_iterations: int = 6
     position_iterations: int = 3
+    semantic_interval: int = 2
 
     def __post_init__(self) -> None:
         if self.max_steps < 1 or self.min_steps < 0 or self.patience < 1:
             raise ValueError("SolverConfig: max_steps >= 1, min_steps >= 0 and patience >= 1")
         if not (self.k >= 0 and self.dt > 0 and self.mobility > 0):
             raise ValueError("SolverConfig: k >= 0, dt > 0 and mobility > 0")
+        if self.semantic_interval < 1:
+            raise ValueError("SolverConfig: semantic_interval >= 1")
 
 
 def temperature(step: int | np.ndarray, k: float = 0.02) -> np.ndarray | float:
@@ -178,9 +186,13 @@ def simulate(
     k, dt, mob, amob = cfg.k, cfg.dt, cfg.mobility, cfg.angular_mobility
     vmax, wmax = cfg.max_speed, cfg.max_turn
     vel_it, pos_it = cfg.velocity_iterations, cfg.position_iterations
+    every = cfg.semantic_interval
     state = model.state(pos, yaw)
     for t in range(cfg.max_steps):
-        f, tau = model.net(state, 1.0 / (1.0 + k * t))
+        if t % every == 0:
+            fs, ts = model.semantic(state, 1.0 / (1.0 + k * t))
+        fp, tp = model.physical(state)
+        f, tau = fs + fp, ts + tp
         if not all_moving:
             f, tau = f[mv], tau[mv]
         v = f * mob

@@ -308,6 +308,7 @@ def area_variants(
             facing.setdefault(s_.object, []).append(s_.target)  # type: ignore[arg-type]
             facing.setdefault(s_.target, []).append(s_.object)  # type: ignore[arg-type]
     levels = sorted({depth.get(m, 0) for m in members})
+    area_of = size[:, 0] * size[:, 1]
     reach = size[:, :2].max(axis=1) / 2 + 0.02
     lo_c, hi_c = reach[:, None], np.array([side_w, side_d])[None, :] - reach[:, None]
     out = []
@@ -318,9 +319,11 @@ def area_variants(
         done = np.zeros(k, dtype=bool)
         first_wall = True
         sides: dict[str, int] = {}
+        used: dict[int, set[float]] = {}  # sides of each parent already taken by a child
         for lev in levels[:k]:
             new = np.array([depth.get(m, 0) == lev for m in members])
-            for r in np.flatnonzero(new):
+            # largest first, so the biggest at_wall object takes the area's back
+            for r in sorted(np.flatnonzero(new).tolist(), key=lambda r: -area_of[r]):
                 parents = [members.index(p) for p in g.predecessors(members[r])
                            if p in members and done[members.index(p)]]
                 if parents:  # beside the parent, in the parent's frame
@@ -328,7 +331,9 @@ def area_variants(
                     wq, dq = size[q, :2] / 2
                     wr, dr = size[r, :2] / 2
                     if members[r] in at_wall and members[q] in at_wall:
-                        side = rng.choice([-1.0, 1.0])
+                        free = [x for x in (-1.0, 1.0) if x not in used.get(q, ())] or [-1.0, 1.0]
+                        side = free[int(rng.integers(len(free)))]
+                        used.setdefault(q, set()).add(side)
                         off = np.array([side * (wq + wr + 0.05), dr - dq])
                     else:
                         off = [np.array([-(wq + wr + 0.05), 0.0]),

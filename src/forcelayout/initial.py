@@ -199,6 +199,34 @@ def _child_candidates(room, rng, k, names, q, r, pos, yaw, half, radius, spread)
     return cand, rng.uniform(-np.pi, np.pi, k)
 
 
+def _unmet(room, names, cand, fwd, rgt, half_r, pos, half, placed) -> np.ndarray:
+    """How many of an object's cheaply judged rules each candidate pose misses, shape (K,).
+
+    Judged: ``facing`` (target within 25° of the front), ``near_window`` /
+    ``near_door`` (centre within 1.3 m of an opening) and ``next_to``
+    (footprint within 0.1 m of the target's, along the target's axes), for
+    targets already placed.
+    """
+    unmet = np.zeros(len(cand))
+    for j in names.get("facing", []):
+        if j in placed:
+            d = pos[j] - cand
+            cos = (d * fwd).sum(1) / np.maximum(np.sqrt((d * d).sum(1)), 1e-9)
+            unmet += cos < np.cos(np.radians(25.0))
+    for rule, openings in (("near_window", room.windows), ("near_door", room.doors)):
+        if rule in names and len(openings):
+            d = cand[:, None, :] - openings.centre[None]
+            unmet += np.sqrt((d * d).sum(2)).min(1) > 1.3
+    for j in names.get("next_to", []):
+        if j in placed:
+            d = np.abs(cand - pos[j])
+            ext = np.abs(rgt) * half_r[0] + np.abs(fwd) * half_r[1]
+            # a rough axis-aligned test; the simulation closes small gaps
+            gap = (d - ext - np.sqrt((half[j] ** 2).sum())).max(1)
+            unmet += gap > 0.35
+    return unmet
+
+
 def initial_poses(
     model: ForceModel,
     rng: np.random.Generator,
@@ -318,9 +346,12 @@ def propose_poses(
             dsep = geo.obb_separation(dc[None] - cand[:, None], rgt[:, None], fwd[:, None],
                                       reserve[None, None], dr[None], df[None], dh[None])
             clear = np.minimum(clear, dsep.min(axis=1))
+        unmet = _unmet(room, names, cand, fwd, rgt, half[r], pos, half, set(placed))
         score = np.where(inside, clear, -np.inf)
-        good = np.flatnonzero(score >= 0.05)
-        k = int(good[0]) if good.size else int(np.argmax(score))
+        # first candidate that is clear and meets the rules it can be judged by,
+        # else the clear one meeting most, else the one with the most clearance
+        rank = np.where(score >= 0.05, 10.0 - unmet, np.where(np.isfinite(score), -10.0, -99.0))
+        k = int(np.argmax(rank)) if rank.max() > -10.0 else int(np.argmax(score))
         if np.isfinite(score[k]):
             pos[r], yaw[r] = cand[k], cyaw[k]
         else:  # no candidate inside the floor: the centroid, and let the walls push

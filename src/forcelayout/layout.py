@@ -122,6 +122,7 @@ class Layout:
         self.seed = int(seed)
         self.report = report if report is not None else SampleReport(seed=self.seed)
         self._room: RoomGeometry | None = None
+        self._rules: list[RuleResult] | None = None
 
     # -- geometry ---------------------------------------------------------------
     @property
@@ -157,10 +158,16 @@ class Layout:
 
     # -- rules ------------------------------------------------------------------
     def rule_report(self) -> list[RuleResult]:
-        """Whether each rule binding of the plan is met (None where not judged)."""
-        from forcelayout.report import judge_rules
+        """Whether each rule binding of the plan is met (None where not judged).
 
-        return judge_rules(self)
+        Computed once per layout (a layout's poses are not meant to change
+        after it is made; build a new Layout for new poses).
+        """
+        if self._rules is None:
+            from forcelayout.report import judge_rules
+
+            self._rules = judge_rules(self)
+        return list(self._rules)
 
     @property
     def rule_satisfaction(self) -> float:

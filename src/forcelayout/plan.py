@@ -139,6 +139,9 @@ class RuleSpec(_Model):
     params: dict[str, Any] = Field(default_factory=dict, description="Rule parameters.")
     weight: float | None = Field(None, ge=0, allow_inf_nan=False,
                                  description="Strength multiplier; None uses the default.")
+    bond: bool | None = Field(None, description=(
+        "Strong parent->child dependency in the scene graph; None = the default "
+        "(next_to, in_front_of and around between floor objects of one area)."))
 
 
 class AreaRule(_Model):

@@ -47,6 +47,14 @@ class Options:
         clearance, navigability, reachability) and reject failures.
     check_kwargs : dict
         Thresholds passed to :func:`forcelayout.validate.check_layout`.
+    hierarchy : bool
+        Place the floor by the hierarchical path (area variants assembled in
+        the room, see :mod:`forcelayout.hierarchy`) instead of one flat
+        simulation.
+    variants : int
+        Variants generated per functional area on the hierarchical path.
+    variant_seed : int
+        Seed of the variant library (shared by all samples of a run).
     """
 
     solver: SolverConfig = field(default_factory=SolverConfig)
@@ -55,6 +63,9 @@ class Options:
     min_rule_satisfaction: float = 0.95
     check: bool = True
     check_kwargs: dict[str, Any] = field(default_factory=dict)
+    hierarchy: bool = False
+    variants: int = 6
+    variant_seed: int = 0
 
 
 def sample_seed(seed: int, index: int) -> int:
@@ -103,6 +114,8 @@ def solve(
     placed = realise(plan, np.random.default_rng(seed), opts)
     report = SampleReport(seed=int(seed), steps=placed.steps, converged=placed.converged,
                           missing=placed.missing, stages=placed.stages)
+    if placed.missing:
+        report.failures.append("missing: " + "; ".join(placed.missing))
     layout = Layout(plan, placed.poses, seed, report)
     _judge(layout, opts)
     report.seconds = time.perf_counter() - t0
@@ -112,16 +125,14 @@ def solve(
 def _judge(layout: Layout, opts: Options) -> None:
     report = layout.report
     report.rule_satisfaction = layout.rule_satisfaction
-    failures: list[str] = []
-    if not report.converged:
-        pass  # an unsettled but valid layout is still a layout; the checks decide
+    failures: list[str] = list(report.failures)  # e.g. objects that could not be placed
     if opts.check:
         from forcelayout.validate import check_layout
 
         failures.extend(check_layout(layout, **opts.check_kwargs).failures)
     if report.rule_satisfaction < opts.min_rule_satisfaction:
         unmet = [f"{r.rule}({r.object}{', ' + r.target if r.target else ''})"
-                 for r in layout.rule_report() if r.satisfied is False]
+                 for r in layout.rule_report() if r.satisfied is False]  # cached report
         failures.append(f"rules: {report.rule_satisfaction:.0%} met, below "
                         f"{opts.min_rule_satisfaction:.0%}; unmet: {', '.join(unmet)}")
     report.failures = failures
@@ -274,6 +285,9 @@ def generate(
         raise ValueError(f"n must be >= 0, got {n}")
     opts = _options(options, kwargs)
     plan = load_plan(plan)
+    from forcelayout.pipeline import prepare
+
+    prepare(plan)  # plan-level problems surface before any sample runs
     budget = max(4 * n, n + 20) if max_attempts is None else int(max_attempts)
     if budget < 0:
         raise ValueError(f"max_attempts must be >= 0, got {max_attempts}")

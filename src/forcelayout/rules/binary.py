@@ -135,8 +135,10 @@ class FarFrom(Rule):
 class Facing(Rule):
     """Turned towards the target: its centre within `max_angle` degrees of the front.
 
-    A torque only: it turns the object until the target's centre lies well
-    inside the cone; the object does not move.
+    Small misses are fixed by sliding sideways (along the object's own
+    right axis) until the target is well inside the cone, so an object held
+    square by a wall lines up with its target along that wall; large misses
+    also turn the object.
     """
 
     kind = "binary"
@@ -149,8 +151,14 @@ class Facing(Rule):
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         err = _facing_error(state, i, j)
-        dead = 0.25 * np.radians(p.max_angle)
-        return np.zeros((len(i), 2)), _turn(err, dead, p.weight)
+        half_cone = np.radians(p.max_angle)
+        d = state.pos[j] - state.pos[i]
+        r = state.right[i]
+        lat = (d * r).sum(1)
+        ahead = (d * state.front[i]).sum(1)
+        reach = np.maximum(ahead, 0.0) * np.tan(np.minimum(0.6 * half_cone, 1.4))
+        slide = np.where(ahead > 0, _ramp(np.abs(lat) - reach), 0.0) * np.sign(lat)
+        return r * (p.weight * slide)[:, None], _turn(err, 0.6 * half_cone, p.weight)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         return np.abs(_facing_error(state, i, j)) <= np.radians(p.max_angle)

@@ -138,14 +138,17 @@ class AtWall(Rule):
         # pull the footprint onto the wall's line, aiming 5 mm past it (the wall stops it)
         pos = state.pos[i]
         gap = (pos * n).sum(1) - room.normal_offset[wall] - np.abs(fn) * hd - np.abs(rn) * hw
-        force = n * (-w * _ramp(gap + 0.005, HARD_GAIN))[:, None]
+        # turn the front to the wall's inward normal; while turned well away from
+        # it, pull only gently, so a long object pressed corner-first into the
+        # wall can still swing round instead of jamming at an angle
+        err = np.arctan2(-rn, fn)
+        settle = np.minimum(np.maximum(1.5 - 3.0 * np.abs(err), 0.2), 1.0)
+        force = n * (-w * settle * _ramp(gap + 0.005, HARD_GAIN))[:, None]
         # slide back along the wall if the footprint reaches beyond its ends
         along = (pos * t).sum(1) - room.tangent_offset[wall]
         half = np.abs(rn) * hd + np.abs(fn) * hw  # extent along the wall
         out = np.maximum(half - along, 0.0) - np.maximum(along + half - room.length[wall], 0.0)
         force += t * (w * np.minimum(np.maximum(out * HARD_GAIN, -CAP), CAP))[:, None]
-        # turn the front to the wall's inward normal
-        err = np.arctan2(-rn, fn)
         return force, (w * TURN_HARD) * np.minimum(np.maximum(err, -1.5), 1.5)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):

@@ -56,14 +56,24 @@ def _reaches(parent: np.ndarray, start: int, goal: int) -> bool:
 
 
 def _order(parent: np.ndarray, area: np.ndarray) -> list[int]:
-    """Objects with parents after their parents; larger objects first otherwise."""
-    depth = np.zeros(parent.shape[0], dtype=int)
-    for r in range(parent.shape[0]):
-        cur, d = r, 0
-        while parent[cur] >= 0 and d <= parent.shape[0]:
-            cur, d = int(parent[cur]), d + 1
-        depth[r] = d
-    return sorted(range(parent.shape[0]), key=lambda r: (depth[r], -area[r], r))
+    """Largest roots first, each followed at once by its descendants (largest first).
+
+    Children come right after their parent, so the room kept free beside a
+    parent is taken by its children before any unrelated object can take it.
+    """
+    n = parent.shape[0]
+    kids: dict[int, list[int]] = {}
+    for r in range(n):
+        kids.setdefault(int(parent[r]), []).append(r)
+    for v in kids.values():
+        v.sort(key=lambda r: (-area[r], r))
+    out: list[int] = []
+    stack = list(reversed(kids.get(-1, [])))
+    while stack and len(out) < n:
+        r = stack.pop()
+        out.append(r)
+        stack.extend(reversed(kids.get(r, [])))
+    return out + [r for r in range(n) if r not in set(out)]  # (cycles cannot occur)
 
 
 _SIDE_RULES = {"next_to", "left_of", "right_of"}
@@ -203,9 +213,9 @@ def _unmet(room, names, cand, fwd, rgt, half_r, pos, half, placed) -> np.ndarray
     """How many of an object's cheaply judged rules each candidate pose misses, shape (K,).
 
     Judged: ``facing`` (target within 25° of the front), ``near_window`` /
-    ``near_door`` (centre within 1.3 m of an opening) and ``next_to``
-    (footprint within 0.1 m of the target's, along the target's axes), for
-    targets already placed.
+    ``near_door`` (centre within 1.3 m of an opening), ``next_to``
+    (footprint roughly beside the target's) for targets already placed, and
+    for objects that something hangs ``above``: no window in the wall above.
     """
     unmet = np.zeros(len(cand))
     for j in names.get("facing", []):
@@ -217,6 +227,14 @@ def _unmet(room, names, cand, fwd, rgt, half_r, pos, half, placed) -> np.ndarray
         if rule in names and len(openings):
             d = cand[:, None, :] - openings.centre[None]
             unmet += np.sqrt((d * d).sum(2)).min(1) > 1.3
+    if "_below_art" in names and len(room.windows):  # keep the wall above it free of windows
+        win = room.windows
+        d = cand[:, None, :] - win.centre[None]
+        along = np.abs((d * win.tangent[None]).sum(2))
+        off = np.abs((d * win.normal[None]).sum(2))
+        reach = win.width[None] * 0.5 + np.abs((rgt[:, None] * win.tangent[None]).sum(2)) \
+            * half_r[0] + np.abs((fwd[:, None] * win.tangent[None]).sum(2)) * half_r[1]
+        unmet += ((along < reach) & (off < half_r.max() + 0.3)).any(1)
     for j in names.get("next_to", []):
         if j in placed:
             d = np.abs(cand - pos[j])
@@ -288,6 +306,10 @@ def propose_poses(
     radius = np.hypot(half[:, 0], half[:, 1])
     parent = parents(model)
     rules = _rules_by_object(model)
+    row = {oid: k for k, oid in enumerate(model.ids)}
+    for spec in model.plan.rules:  # objects with a picture or shelf to hang above them
+        if spec.rule == "above" and spec.target in row:
+            rules[row[spec.target]]["_below_art"] = []
     order = _order(parent, model.size[:, 0] * model.size[:, 1])
     # wall length to keep free beside a parent for children standing beside it
     margin = np.zeros(n)
@@ -341,7 +363,10 @@ def propose_poses(
             others = model.state(pos[placed], yaw[placed])
             others.size = model.size[placed]
             sep = geo.box_separation(corners[:, None], others.corners[None, :])
-            clear = np.minimum(clear, sep.min(axis=1))
+            # objects this one is related to may stand right beside it
+            related = {j for js in names.values() for j in js if j >= 0}
+            slack = np.array([0.045 if p in related else 0.0 for p in placed])
+            clear = np.minimum(clear, (sep + slack[None, :]).min(axis=1))
         if len(dc):
             dsep = geo.obb_separation(dc[None] - cand[:, None], rgt[:, None], fwd[:, None],
                                       reserve[None, None], dr[None], df[None], dh[None])

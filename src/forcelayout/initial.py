@@ -345,10 +345,15 @@ def propose_poses(
             cand = room.centroid + rng.normal(0.0, 0.3, (tries, 2))
         else:
             cand = rng.uniform(lo, hi, (tries, 2))
-        # a few uniform fall-backs after the proposals
+        # fall-backs after the proposals: anywhere at a wall for objects that
+        # belong at one, anywhere in the room for the rest
         extra = tries // 2
-        cand = np.concatenate([cand, rng.uniform(lo, hi, (extra, 2))])
-        cyaw = np.concatenate([cyaw, rng.uniform(-np.pi, np.pi, extra)])
+        if "at_wall" in names:
+            more, more_yaw = _wall_candidates(room, rng, extra, half[r], None)
+        else:
+            more, more_yaw = rng.uniform(lo, hi, (extra, 2)), rng.uniform(-np.pi, np.pi, extra)
+        cand = np.concatenate([cand, more])
+        cyaw = np.concatenate([cyaw, more_yaw])
         c, s = np.cos(cyaw), np.sin(cyaw)
         rgt = np.stack([c, s], axis=1)
         fwd = np.stack([-s, c], axis=1)

@@ -35,6 +35,9 @@ __all__ = [
     "footprint_polygon",
 ]
 
+#: Extra depth, metres, of the zone in front of each door that the simulation keeps clear.
+ENTRY_DEPTH = 0.45
+
 _LOCAL_CORNERS = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
 
 
@@ -349,6 +352,23 @@ class RoomGeometry:
         d = self.doors
         centre = d.centre + d.normal * d.width[:, None] * 0.5
         half = np.repeat(d.width[:, None] * 0.5, 2, axis=1)
+        return centre, d.tangent.copy(), d.normal.copy(), half
+
+    @cached_property
+    def door_zones(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Each door's entry zone: its swing square plus an agent's width deeper.
+
+        The simulation keeps furniture out of this zone (the checks only ask
+        for the swing square), so the way in from a door stays open.
+
+        Returns
+        -------
+        centre, right, front, half : ndarray, shapes (D, 2)
+        """
+        d = self.doors
+        depth = d.width + ENTRY_DEPTH
+        centre = d.centre + d.normal * depth[:, None] * 0.5
+        half = np.stack([d.width * 0.5, depth * 0.5], axis=1)
         return centre, d.tangent.copy(), d.normal.copy(), half
 
     @property

@@ -319,7 +319,7 @@ def propose_poses(
     lo, hi = room.bounds[:2], room.bounds[2:]
     floor = room.shape
     shapely.prepare(floor)
-    dc, dr, df, dh = room.door_squares
+    dc, dr, df, dh = room.door_zones
     placed: list[int] = []
     for r in order:
         names = rules[r]

@@ -120,7 +120,7 @@ class State:
     def _separations(self) -> np.ndarray:
         m = self._cache.get("separations")
         if m is None:
-            dc, dr, df, dh = self.room.door_squares
+            dc, dr, df, dh = self.room.door_zones
             if len(dc):
                 m, g1, g2 = geo.separation_matrix(np.concatenate([self.pos, dc]),
                                                   np.concatenate([self.right, dr]),

@@ -161,7 +161,7 @@ def door_clearance(state: State, w: PhysicalWeights) -> tuple[np.ndarray, np.nda
     if not (depth > 0).any():
         return np.zeros((n, 2)), np.zeros(n)
     depth = np.clip(depth, 0.0, 1.0) * (w.door * 10.0)
-    centre, dr, df, dh = room.door_squares
+    centre, dr, df, dh = room.door_zones
     along = state.pos @ dr.T - (centre * dr).sum(1)  # (N, D) offset along the door's wall
     ahead = state.pos @ df.T - (centre * df).sum(1)  # (N, D) offset into the room
     # an object's half extent along each axis of the square

@@ -19,7 +19,10 @@ from forcelayout.plan import SURFACE_RULES, Plan
 from forcelayout.rules.base import ParamArrays, Rule, State
 from forcelayout.rules.physical import PhysicalWeights, physical
 
-__all__ = ["RuleGroup", "ForceModel", "binding_weight"]
+__all__ = ["RuleGroup", "ForceModel", "binding_weight", "SOFT_TORQUE_ON_HARD"]
+
+#: Scale of soft rules' torques on objects that a hard rule (``Rule.hard``) orients.
+SOFT_TORQUE_ON_HARD = 0.2
 
 
 @dataclass
@@ -131,6 +134,12 @@ class ForceModel:
         for g in self.groups:
             if g.j is not None:
                 related[g.i, g.j] = related[g.j, g.i] = True
+        # soft torques yield on objects whose heading a hard rule fixes
+        held = np.zeros(n, dtype=bool)
+        for g in self.groups:
+            if g.rule.hard:
+                held[g.i] = True
+        self.soft_torque_scale = np.where(held, SOFT_TORQUE_ON_HARD, 1.0)
         w = self.physical_weights
         self.pair_reach = np.where(related[self.pi, self.pj], w.related_range, w.repulsion_range)
 
@@ -151,6 +160,8 @@ class ForceModel:
         for g in self.groups:
             p = g.at_temperature(temperature)
             fi, ti = g.rule.force(state, g.i, g.j, p)
+            if not g.rule.hard:
+                ti = ti * self.soft_torque_scale[g.i]
             if g.unique_i:  # one binding per object: plain fancy-index add
                 f[g.i] += fi
                 tau[g.i] += ti

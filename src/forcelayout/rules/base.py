@@ -263,6 +263,12 @@ class Rule:
     reaction : float
         Fraction of the force on ``i`` applied, reversed, to the target ``j``
         (binary rules only). 0 keeps the target still, 0.5 splits the pull.
+    hard : bool
+        A hard placement rule (``at_wall``, ``in_corner``) that fixes the
+        object's heading: on an object bound by one, the torques of the soft
+        rules are scaled down (:data:`forcelayout.forces.SOFT_TORQUE_ON_HARD`)
+        so a relation such as ``facing`` slides the object rather than
+        turning its back off the wall.
     Params : pydantic model
         Parameters with defaults and units in their descriptions.
 
@@ -280,6 +286,7 @@ class Rule:
     kind: ClassVar[RuleKind] = "unary"
     weight: ClassVar[float] = 1.0
     reaction: ClassVar[float] = 0.0
+    hard: ClassVar[bool] = False
 
     class Params(BaseModel):
         """No parameters."""

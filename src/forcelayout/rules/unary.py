@@ -116,6 +116,7 @@ class AtWall(Rule):
     """
 
     kind = "unary"
+    hard = True
     weight = 3.0
 
     class Params(Rule.Params):
@@ -174,6 +175,7 @@ class InCorner(Rule):
     """
 
     kind = "unary"
+    hard = True
     weight = 3.0
 
     class Params(Rule.Params):

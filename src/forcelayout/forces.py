@@ -17,7 +17,7 @@ from forcelayout import rules as registry
 from forcelayout.geometry import RoomGeometry
 from forcelayout.plan import SURFACE_RULES, Plan
 from forcelayout.rules.base import ParamArrays, Rule, State
-from forcelayout.rules.physical import PhysicalWeights, physical
+from forcelayout.rules.physical import PhysicalWeights, physical, repulsion
 
 __all__ = ["RuleGroup", "ForceModel", "binding_weight", "SOFT_TORQUE_ON_HARD"]
 
@@ -140,8 +140,8 @@ class ForceModel:
             if g.rule.hard:
                 held[g.i] = True
         self.soft_torque_scale = np.where(held, SOFT_TORQUE_ON_HARD, 1.0)
-        w = self.physical_weights
-        self.pair_reach = np.where(related[self.pi, self.pj], w.related_range, w.repulsion_range)
+        free = ~related[self.pi, self.pj]
+        self.qi, self.qj = self.pi[free], self.pj[free]  # pairs that get walking room
 
     @property
     def n(self) -> int:
@@ -154,7 +154,11 @@ class ForceModel:
                      self.room, self.ids)
 
     def semantic(self, state: State, temperature: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-        """Sum of the rule forces and torques, scaled by ``temperature``."""
+        """Sum of the rule forces and torques, scaled by ``temperature``.
+
+        Includes the walking-room term between objects no rule relates
+        (:class:`PhysicalWeights` ``passage``), annealed like the rules.
+        """
         f = np.zeros((state.n, 2))
         tau = np.zeros(state.n)
         for g in self.groups:
@@ -170,6 +174,11 @@ class ForceModel:
                 np.add.at(tau, g.i, ti)
             if g.j is not None and g.rule.reaction:
                 np.add.at(f, g.j, -g.rule.reaction * fi)
+        w = self.physical_weights
+        if w.passage > 0 and self.qi.size:  # walking room between unrelated objects
+            fp, _ = repulsion(state, self.qi, self.qj, w, w.passage_range,
+                              w.passage * temperature)
+            f += fp
         return f, tau
 
     def net(self, state: State, temperature: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
@@ -185,7 +194,7 @@ class ForceModel:
 
     def physical(self, state: State) -> tuple[np.ndarray, np.ndarray]:
         """The always-on terms alone (repulsion, boundary, alignment, door clearance)."""
-        return physical(state, self.pi, self.pj, self.physical_weights, self.pair_reach)
+        return physical(state, self.pi, self.pj, self.physical_weights)
 
     def satisfied(self, state: State) -> dict[int, bool]:
         """Whether each simulated binding is met: ``{plan rule index: bool}``."""

@@ -37,6 +37,8 @@ __all__ = [
 
 #: Extra depth, metres, of the zone in front of each door that the simulation keeps clear.
 ENTRY_DEPTH = 0.45
+#: Extra width, metres, on each side of that zone (so nothing stands flush with the swing).
+ENTRY_SIDE = 0.04
 
 _LOCAL_CORNERS = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
 
@@ -368,7 +370,7 @@ class RoomGeometry:
         d = self.doors
         depth = d.width + ENTRY_DEPTH
         centre = d.centre + d.normal * depth[:, None] * 0.5
-        half = np.stack([d.width * 0.5, depth * 0.5], axis=1)
+        half = np.stack([d.width * 0.5 + ENTRY_SIDE, depth * 0.5], axis=1)
         return centre, d.tangent.copy(), d.normal.copy(), half
 
     @property

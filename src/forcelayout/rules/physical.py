@@ -23,24 +23,26 @@ _EPS = 1e-3
 
 @dataclass(frozen=True)
 class PhysicalWeights:
-    """Strengths and ranges of the always-on terms.
+    """Strengths and ranges of the always-on terms (and of the walking-room term).
 
     Attributes
     ----------
     repulsion : float
-        Strength of the logarithmic repulsion between footprints (the
-        strongest term, per the paper).
+        Strength of the short-range logarithmic repulsion between all
+        footprints (the strongest term, per the paper).
     repulsion_range : float
-        Clearance in metres below which repulsion acts between objects that
-        no rule relates: about an agent's width, so unrelated objects either
-        stand apart far enough to walk between or are pushed together by
-        their own rules.
-    related_range : float
-        The same for pairs that a binary rule relates (``next_to``, ...),
-        which may stand close.
+        Clearance in metres below which repulsion acts.
     repulsion_floor : float
         Clearance in metres below which the repulsion stops growing. Box2D
         contacts keep bodies apart; the floor keeps the explicit step stable.
+    passage : float
+        Strength of the walking-room term between objects that no rule
+        relates. Unlike the physical terms it is a preference, not a
+        constraint, and is annealed with the rule forces.
+    passage_range : float
+        Clearance in metres below which the walking-room term acts: about an
+        agent's width, so unrelated objects either stand far enough apart to
+        walk between or are drawn together by their own rules.
     boundary : float
         Strength of the inverse-square wall potential, in N·m².
     boundary_range : float
@@ -50,13 +52,14 @@ class PhysicalWeights:
     alignment : float
         Strength of the torque settling objects at cardinal angles.
     door : float
-        Strength of the push out of door swing squares.
+        Strength of the push out of each door's entry zone.
     """
 
     repulsion: float = 1.5
-    repulsion_range: float = 0.4
-    related_range: float = 0.08
+    repulsion_range: float = 0.1
     repulsion_floor: float = 0.04
+    passage: float = 1.5
+    passage_range: float = 0.4
     boundary: float = 2e-5
     boundary_range: float = 0.08
     boundary_floor: float = 0.015
@@ -64,15 +67,15 @@ class PhysicalWeights:
     door: float = 2.0
 
     def scaled(self, overrides: dict[str, float]) -> PhysicalWeights:
-        """A copy with ``{"repulsion": x, "boundary": y, "alignment": z}`` multiplied in."""
-        return PhysicalWeights(
+        """A copy with the plan's ``weights`` for ``repulsion``, ``passage``,
+        ``boundary``, ``alignment`` and ``door`` multiplied in."""
+        from dataclasses import replace
+
+        return replace(
+            self,
             repulsion=self.repulsion * overrides.get("repulsion", 1.0),
-            repulsion_range=self.repulsion_range,
-            related_range=self.related_range,
-            repulsion_floor=self.repulsion_floor,
+            passage=self.passage * overrides.get("passage", 1.0),
             boundary=self.boundary * overrides.get("boundary", 1.0),
-            boundary_range=self.boundary_range,
-            boundary_floor=self.boundary_floor,
             alignment=self.alignment * overrides.get("alignment", 1.0),
             door=self.door * overrides.get("door", 1.0),
         )
@@ -88,28 +91,32 @@ def repulsion(
     pi: np.ndarray,
     pj: np.ndarray,
     w: PhysicalWeights,
-    reach: np.ndarray | None = None,
+    reach: float | None = None,
+    strength: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Short-range logarithmic repulsion between all pairs ``(pi, pj)``.
 
-    The force on each body of a pair grows as ``w.repulsion * ln(r0 / g)`` as
-    the clearance ``g`` falls below the pair's range ``r0`` (``reach``, by
-    default ``w.repulsion_range``; floored at ``w.repulsion_floor``), pointing
-    from the other body's centre to its own; zero beyond ``r0``.
+    The force on each body of a pair grows as ``strength * ln(r0 / g)`` as
+    the clearance ``g`` falls below ``r0`` (defaults ``w.repulsion`` and
+    ``w.repulsion_range``; ``g`` floored at ``w.repulsion_floor``), pointing
+    from the other body's centre to its own; zero beyond ``r0``. The
+    walking-room term is the same function with ``w.passage`` and
+    ``w.passage_range``.
     """
     n = state.n
     if pi.size == 0:
         return np.zeros((n, 2)), np.zeros(n)
-    r0 = np.full(pi.shape, w.repulsion_range) if reach is None else reach
+    r0 = w.repulsion_range if reach is None else reach
+    k = w.repulsion if strength is None else strength
     sep = state.separation(pi, pj)
     active = sep < r0
     f = np.zeros((n, 2))
     if not active.any():
         return f, np.zeros(n)
-    pi, pj, sep, r0 = pi[active], pj[active], sep[active], r0[active]
+    pi, pj, sep = pi[active], pj[active], sep[active]
     d = state.pos[pi] - state.pos[pj]
     u = d / np.maximum(np.sqrt((d * d).sum(1)), 1e-9)[:, None]
-    fi = u * (w.repulsion * np.log(r0 / np.maximum(sep, w.repulsion_floor)))[:, None]
+    fi = u * (k * np.log(r0 / np.maximum(sep, w.repulsion_floor)))[:, None]
     np.add.at(f, pi, fi)
     np.add.at(f, pj, -fi)
     return f, np.zeros(n)
@@ -178,19 +185,12 @@ def door_clearance(state: State, w: PhysicalWeights) -> tuple[np.ndarray, np.nda
 
 
 def physical(
-    state: State,
-    pi: np.ndarray,
-    pj: np.ndarray,
-    w: PhysicalWeights,
-    reach: np.ndarray | None = None,
+    state: State, pi: np.ndarray, pj: np.ndarray, w: PhysicalWeights
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Sum of all always-on terms: repulsion, boundary, alignment, door clearance.
-
-    ``reach`` gives each pair's repulsion range (see :func:`repulsion`).
-    """
+    """Sum of all always-on terms: repulsion, boundary, alignment, door clearance."""
     f = np.zeros((state.n, 2))
     tau = np.zeros(state.n)
-    for fk, tk in (repulsion(state, pi, pj, w, reach), boundary(state, w), alignment(state, w),
+    for fk, tk in (repulsion(state, pi, pj, w), boundary(state, w), alignment(state, w),
                    door_clearance(state, w)):
         f += fk
         tau += tk

@@ -215,7 +215,8 @@ def _unmet(room, names, cand, fwd, rgt, half_r, pos, half, placed) -> np.ndarray
     Judged: ``facing`` (target within 25° of the front), ``near_window`` /
     ``near_door`` (centre within 1.3 m of an opening), ``next_to``
     (footprint roughly beside the target's) for targets already placed, and
-    for objects that something hangs ``above``: no window in the wall above.
+    for objects that something hangs ``above``: no window or door in the wall
+    above or close beside.
     """
     unmet = np.zeros(len(cand))
     for j in names.get("facing", []):
@@ -227,12 +228,13 @@ def _unmet(room, names, cand, fwd, rgt, half_r, pos, half, placed) -> np.ndarray
         if rule in names and len(openings):
             d = cand[:, None, :] - openings.centre[None]
             unmet += np.sqrt((d * d).sum(2)).min(1) > 1.3
-    if "_below_art" in names and len(room.windows):  # keep the wall above it free of windows
-        win = room.windows
+    for win in (room.windows, room.doors) if "_below_art" in names else ():
+        if not len(win):  # keep the wall above it free of windows and doors
+            continue
         d = cand[:, None, :] - win.centre[None]
         along = np.abs((d * win.tangent[None]).sum(2))
         off = np.abs((d * win.normal[None]).sum(2))
-        reach = win.width[None] * 0.5 + np.abs((rgt[:, None] * win.tangent[None]).sum(2)) \
+        reach = win.width[None] * 0.5 + 0.3 + np.abs((rgt[:, None] * win.tangent[None]).sum(2)) \
             * half_r[0] + np.abs((fwd[:, None] * win.tangent[None]).sum(2)) * half_r[1]
         unmet += ((along < reach) & (off < half_r.max() + 0.3)).any(1)
     for j in names.get("next_to", []):

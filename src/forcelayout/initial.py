@@ -253,26 +253,39 @@ def initial_poses(
     *,
     tries: int = 16,
     spread: float = 0.3,
-    restarts: int = 3,
+    restarts: int = 12,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Random start poses that already lean towards the rules; the best of ``restarts``.
 
-    Draws ``restarts`` independent starts with :func:`propose_poses` and keeps
-    the one that meets the most of the model's rules (the first on ties, and
-    the first that meets them all ends the search), so
+    Draws up to ``restarts`` independent starts with :func:`propose_poses` and
+    keeps the one that meets the most of the model's rules (the first on
+    ties); the first that meets them all and passes the deterministic checks
+    ends the search at once. So
     a bed that landed in a corner with no room for its second nightstand is
     tried elsewhere before any simulation time is spent on it.
     """
-    best, best_score = None, -1
+    best, best_score = None, -1.0
     for _ in range(max(1, restarts)):
         pos, yaw = propose_poses(model, rng, tries=tries, spread=spread)
         met = model.satisfied(model.state(pos, yaw))
-        score = sum(met.values())
+        score = float(sum(met.values()))
+        if score == len(met):  # every rule met: take it if it also passes the checks
+            if _passes_checks(model, pos, yaw):
+                return pos, yaw
+            score -= 0.5
         if score > best_score:
             best, best_score = (pos, yaw), score
-        if score == len(met):  # every rule already met: no need to look further
-            break
     return best  # type: ignore[return-value]
+
+
+def _passes_checks(model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> bool:
+    """Whether start poses already pass the deterministic checks (floor objects only)."""
+    from forcelayout.layout import Layout, Pose
+    from forcelayout.validate import check_layout
+
+    poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
+             for oid, p, y in zip(model.ids, pos, yaw, strict=True)}
+    return check_layout(Layout(model.plan, poses)).ok
 
 
 def propose_poses(

@@ -380,9 +380,12 @@ def propose_poses(
         inside = shapely.contains(floor, shapely.polygons(corners))
         clear = np.full(len(cand), 0.3)
         if placed:
-            others = model.state(pos[placed], yaw[placed])
-            others.size = model.size[placed]
-            sep = geo.box_separation(corners[:, None], others.corners[None, :])
+            oy = yaw[placed]
+            oc, os_ = np.cos(oy), np.sin(oy)
+            sep = geo.obb_separation(pos[placed][None] - cand[:, None], rgt[:, None],
+                                     fwd[:, None], reserve[None, None],
+                                     np.stack([oc, os_], axis=1)[None],
+                                     np.stack([-os_, oc], axis=1)[None], half[placed][None])
             # objects this one is related to may stand right beside it
             related = {j for js in names.values() for j in js if j >= 0}
             slack = np.array([0.045 if p in related else 0.0 for p in placed])

@@ -1,0 +1,58 @@
+"""Start poses: parents anywhere, children beside their parents, wall objects at walls."""
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+
+import forcelayout as fl
+from forcelayout.forces import ForceModel
+from forcelayout.initial import initial_poses, parents, propose_poses
+from forcelayout.testing import plans
+
+
+@pytest.fixture(scope="module")
+def bedroom():
+    return ForceModel(fl.load_plan("bedroom"))
+
+
+def test_children_have_their_targets_as_parents(bedroom):
+    par = parents(bedroom)
+    row = {oid: k for k, oid in enumerate(bedroom.ids)}
+    assert par[row["nightstand_1"]] == row["bed"]
+    assert par[row["nightstand_2"]] == row["bed"]
+    assert par[row["desk_chair"]] == row["desk"]
+    assert par[row["bed"]] == -1
+
+
+def test_same_generator_state_same_start(bedroom):
+    a = initial_poses(bedroom, np.random.default_rng(5))
+    b = initial_poses(bedroom, np.random.default_rng(5))
+    np.testing.assert_array_equal(a[0], b[0])
+    np.testing.assert_array_equal(a[1], b[1])
+
+
+def test_starts_lean_towards_the_rules(bedroom):
+    """Most starts already meet most rules: children beside parents, backs to walls."""
+    met = []
+    for seed in range(12):
+        pos, yaw = initial_poses(bedroom, np.random.default_rng(seed))
+        st = bedroom.state(pos, yaw)
+        assert bedroom.room.contains(st.corners.reshape(-1, 2)).mean() > 0.95
+        met.append(np.mean(list(bedroom.satisfied(st).values())))
+    assert np.mean(met) > 0.8
+
+
+def test_starts_differ_between_seeds(bedroom):
+    a, _ = propose_poses(bedroom, np.random.default_rng(1))
+    b, _ = propose_poses(bedroom, np.random.default_rng(2))
+    assert np.abs(a - b).max() > 0.3
+
+
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(plan=plans(max_objects=8))
+def test_random_plans_get_finite_starts_inside_the_bounds(plan):
+    model = ForceModel(plan)
+    pos, yaw = initial_poses(model, np.random.default_rng(0))
+    assert pos.shape == (model.n, 2) and np.isfinite(pos).all() and np.isfinite(yaw).all()
+    lo, hi = model.room.bounds[:2], model.room.bounds[2:]
+    assert ((pos >= lo - 1e-9) & (pos <= hi + 1e-9)).all()

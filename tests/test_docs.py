@@ -14,6 +14,7 @@ subpackages appears in docs/api.md.
 from __future__ import annotations
 
 import importlib
+import json
 import re
 from pathlib import Path
 
@@ -27,6 +28,7 @@ DOCS = ROOT / "docs"
 PAGES = sorted(DOCS.glob("*.md")) + [ROOT / "README.md"]
 LLM_MARKER = "# needs: llm-endpoint"
 FENCE = re.compile(r"^```python[^\n]*\n(.*?)^```", re.S | re.M)
+JSON_FENCE = re.compile(r"^```json[^\n]*\n(.*?)^```", re.S | re.M)
 POOL = re.compile(r"ProcessPoolExecutor\(\s*(?:max_workers\s*=\s*)?(\d*)")
 
 #: Modules and subpackages whose ``__all__`` docs/api.md must cover.
@@ -171,6 +173,26 @@ def test_index_lists_every_page():
     linked = set(re.findall(r"\]\(([^)#]+\.md)\)", index))
     pages = {p.name for p in DOCS.glob("*.md")} - {"index.md"}
     assert linked == pages, f"index.md links {sorted(linked)}, docs/ holds {sorted(pages)}"
+
+
+def test_json_blocks_are_valid_plans_and_rules():
+    """A JSON block holding a plan validates as a Plan; one holding a rule, as a RuleSpec."""
+    import forcelayout as fl
+
+    seen = 0
+    for page in PAGES:
+        text = page.read_text(encoding="utf-8")
+        for m in JSON_FENCE.finditer(text):
+            where = f"{page.name}:{text.count(chr(10), 0, m.start()) + 1}"
+            data = json.loads(m.group(1))
+            if isinstance(data, dict) and {"room", "objects"} <= data.keys():
+                fl.Plan.from_dict(data)
+            elif isinstance(data, dict) and "rule" in data:
+                fl.RuleSpec.model_validate(data)
+            else:
+                pytest.fail(f"{where}: a JSON block that is neither a plan nor a rule")
+            seen += 1
+    assert seen >= 1
 
 
 def test_llm_blocks_are_marked_or_offline():

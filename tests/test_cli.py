@@ -59,3 +59,13 @@ def test_entry_point_is_installed(args):
     proc = subprocess.run([sys.executable, "-m", "forcelayout.cli", *args], capture_output=True,
                           text=True)
     assert proc.returncode == 0
+
+
+def test_validate_skips_files_that_are_not_layouts(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["generate", "bedroom", "-n", "1", "--out", str(out), "--quiet"]) == 0
+    files = sorted(out.glob("*.json"))  # plan.json and summary.json as well, as a glob gives
+    assert main(["validate", str(out / "plan.json"), *map(str, files)]) == 0
+    text = capsys.readouterr().out
+    assert "summary.json: skipped, not a layout" in text
+    assert "bedroom_000.json: ok" in text

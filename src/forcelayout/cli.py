@@ -54,7 +54,11 @@ def _cmd_validate(args: argparse.Namespace) -> int:
         return 0
     bad = 0
     for path in args.layouts:
-        lay = Layout.load(path, plan)
+        try:
+            lay = Layout.load(path, plan)
+        except (ValueError, KeyError, TypeError) as e:
+            print(f"{path}: skipped, not a layout of plan {plan.name!r}: {e}")
+            continue
         rep = check_layout(lay)
         sat = lay.rule_satisfaction
         status = "ok" if rep.ok else "FAIL"

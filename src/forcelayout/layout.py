@@ -208,6 +208,9 @@ class Layout:
 
         ``plan`` is required unless the data embeds it (``include_plan=True``).
         """
+        if not isinstance(data, dict) or not isinstance(data.get("objects"), dict):
+            raise ValueError("not a layout: expected a JSON object with an 'objects' mapping "
+                             "of poses (as written by Layout.save)")
         if plan is None:
             if "plan_spec" not in data:
                 raise ValueError("layout JSON has no embedded plan; pass plan=...")

@@ -25,7 +25,7 @@ from forcelayout.solver import simulate
 if TYPE_CHECKING:
     from forcelayout.sampling import Options
 
-__all__ = ["Placement", "realise", "initial_poses", "prepare"]
+__all__ = ["Placement", "realise", "prepare"]
 
 
 @dataclass

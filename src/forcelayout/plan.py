@@ -57,10 +57,13 @@ __all__ = [
     "load_plan",
     "SURFACE_RULES",
     "MAX_FLOOR_FILL",
+    "PHYSICAL_TERMS",
 ]
 
 #: Rules that place an object off the floor (on a parent, a wall or the ceiling).
 SURFACE_RULES = frozenset({"on_top", "on_wall", "on_wall_mid", "above", "on_ceiling"})
+#: Names of the always-on terms whose strength ``Plan.weights`` may scale.
+PHYSICAL_TERMS = frozenset({"repulsion", "passage", "boundary", "alignment", "door"})
 #: Largest fraction of the floor the floor objects' footprints may cover.
 MAX_FLOOR_FILL = 0.6
 
@@ -400,7 +403,7 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
                 yield Problem(f"{path}.params.{_fmt_loc(err['loc'])}",
                               f"{err['msg']}; {r.rule!r} takes {sorted(rule.Params.model_fields)}")
     for name in plan.weights:
-        if not registry.is_registered(name) and name not in {"repulsion", "boundary", "alignment"}:
+        if not registry.is_registered(name) and name not in PHYSICAL_TERMS:
             yield Problem(f"weights.{name}", f"unknown rule {name!r}."
                           f"{_did_you_mean(name, registry.available_rules())}")
     for k, o in enumerate(plan.objects):

@@ -73,7 +73,8 @@ def _order(parent: np.ndarray, area: np.ndarray) -> list[int]:
         r = stack.pop()
         out.append(r)
         stack.extend(reversed(kids.get(r, [])))
-    return out + [r for r in range(n) if r not in set(out)]  # (cycles cannot occur)
+    seen = set(out)  # parents() never forms a cycle; this only guards the bound above
+    return out + [r for r in range(n) if r not in seen]
 
 
 _SIDE_RULES = {"next_to", "left_of", "right_of"}

@@ -20,7 +20,7 @@ Same inputs give the same result, bit for bit, on the same machine.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from Box2D import b2ChainShape, b2PolygonShape, b2World
@@ -114,7 +114,6 @@ class SimulationResult:
     yaw: np.ndarray
     steps: int
     converged: bool
-    trace: list[np.ndarray] = field(default_factory=list, repr=False)
 
 
 def _world(room: RoomGeometry, obstacles: list[np.ndarray] | None = None) -> b2World:

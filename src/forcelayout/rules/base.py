@@ -72,14 +72,6 @@ class State:
         """Half extents ``(width/2, depth/2)``, shape (N, 2), metres."""
         return self.size[:, :2] * 0.5
 
-    @property
-    def radius(self) -> np.ndarray:
-        """Radius of each footprint's bounding circle, shape (N,), metres."""
-        r = self._cache.get("radius")
-        if r is None:
-            r = self._cache["radius"] = np.hypot(self.size[:, 0], self.size[:, 1]) * 0.5
-        return r
-
     def _axes(self) -> None:
         c, s = np.cos(self.yaw), np.sin(self.yaw)
         f = np.empty((c.shape[0], 2))

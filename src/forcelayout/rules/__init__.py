@@ -27,19 +27,33 @@ from __future__ import annotations
 import difflib
 import fnmatch
 import importlib
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
-from importlib.metadata import entry_points
+from importlib.metadata import entry_points, packages_distributions
 from typing import Any, TypeVar
 
 from forcelayout.errors import UnknownRuleError
-from forcelayout.rules.base import ParamArrays, Rule, RuleKind, State
+from forcelayout.rules.base import (
+    Access,
+    ParamArrays,
+    Rule,
+    RuleKind,
+    StartHint,
+    State,
+    Surface,
+    TargetNeed,
+)
 
 __all__ = [
     "Rule",
     "State",
     "ParamArrays",
     "RuleKind",
+    "TargetNeed",
+    "Surface",
+    "StartHint",
+    "Access",
     "RuleInfo",
     "register",
     "unregister",
@@ -95,7 +109,11 @@ for _mod, _names in _BUILTIN.items():
 
 @dataclass(frozen=True)
 class RuleInfo:
-    """What the registry says about one rule (for listings and docs)."""
+    """What the registry says about one rule (for listings and docs).
+
+    ``target``, ``surface``, ``bond``, ``hard`` and ``start`` repeat the rule
+    class's declarations (see :class:`Rule`).
+    """
 
     name: str
     kind: RuleKind
@@ -103,6 +121,11 @@ class RuleInfo:
     doc: str
     params: dict[str, dict[str, Any]]
     weight: float
+    target: TargetNeed = "none"
+    surface: Surface = "floor"
+    bond: bool = False
+    hard: bool = False
+    start: StartHint | None = None
 
 
 def register(
@@ -171,13 +194,34 @@ def _describe(entry: type[Rule] | str) -> str:
     return entry if isinstance(entry, str) else f"{entry.__module__}:{entry.__qualname__}"
 
 
+def _package_of(entry: str) -> str:
+    """The installed distribution that provides the module of ``"module:Class"``."""
+    top = entry.split(":", 1)[0].split(".", 1)[0]
+    try:
+        dists = packages_distributions().get(top) or [top]
+    except Exception:  # broken metadata must not stop a lookup
+        dists = [top]
+    return dists[0]
+
+
 def _load_entry_points() -> None:
     global _entry_points_loaded
     if _entry_points_loaded:
         return
     _entry_points_loaded = True
     for ep in entry_points(group=ENTRY_POINT_GROUP):
-        _registry.setdefault(ep.name, ep.value)
+        if ep.name in _registry:
+            if _describe(_registry[ep.name]) != ep.value:
+                ours = _describe(_registry[ep.name])
+                theirs = ep.dist.name if ep.dist is not None else ep.value
+                warnings.warn(
+                    f"the entry point {ep.name!r} of package {theirs!r} ({ep.value}) shadows "
+                    f"the rule already registered as {ep.name!r} ({ours}, package "
+                    f"{_package_of(ours)!r}); the registered rule is kept. Rename the entry "
+                    "point, or call forcelayout.rules.register(name, target, replace=True) "
+                    "to choose the plugin.", RuntimeWarning, stacklevel=3)
+            continue
+        _registry[ep.name] = ep.value
 
 
 def _resolve(name: str) -> type[Rule]:
@@ -249,6 +293,7 @@ def describe_rules(pattern: str = "*") -> list[RuleInfo]:
         cls = _resolve(n)
         out.append(
             RuleInfo(n, cls.kind, cls.summary(), (cls.__doc__ or "").strip(),
-                     cls.param_info(), float(cls.weight))
+                     cls.param_info(), float(cls.weight), cls.target, cls.surface,
+                     bool(cls.bond), bool(cls.hard), cls.start)
         )
     return out

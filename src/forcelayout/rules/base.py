@@ -21,9 +21,100 @@ from forcelayout import geometry as geo
 if TYPE_CHECKING:
     from forcelayout.geometry import RoomGeometry
 
-__all__ = ["Rule", "State", "ParamArrays", "RuleKind"]
+__all__ = [
+    "Rule",
+    "State",
+    "ParamArrays",
+    "RuleKind",
+    "TargetNeed",
+    "Surface",
+    "StartHint",
+    "Access",
+]
 
+#: What a rule relates, for listings: the room ("unary"), a target object ("binary"),
+#: or a surface off the floor ("surface"). Derived from :attr:`Rule.target` and
+#: :attr:`Rule.surface`; a class may still set it alone (see :class:`Rule`).
 RuleKind = Literal["unary", "binary", "surface"]
+#: Whether a binding names a target object: never, always, or when the plan wants one.
+TargetNeed = Literal["none", "required", "optional"]
+#: Where a rule places its object: on the floor, on its target's top, on a wall, on the ceiling.
+Surface = Literal["floor", "top", "wall", "ceiling"]
+
+
+@dataclass(frozen=True)
+class StartHint:
+    """How a rule's objects start before the simulation (see :mod:`forcelayout.initial`).
+
+    Start poses are random but lean towards the rules, so a run spends its
+    steps on settling rather than on crossing the room. A rule says what its
+    binding wants of the start; the engine combines the hints of all rules on
+    an object.
+
+    Attributes
+    ----------
+    place : str, optional
+        Where the object starts. Relative to the room: ``"wall"`` (back
+        against a wall, front into the room), ``"corner"`` (tucked into a
+        convex corner), ``"middle"`` (near the floor's centroid),
+        ``"window"`` / ``"door"`` (near an opening; with ``"wall"``, on a
+        wall near it). Relative to the target: ``"beside"`` (either side),
+        ``"left"``, ``"right"``, ``"front"``, ``"behind"``.
+    turn : str, optional
+        ``"face_target"`` turns the object's front towards its target;
+        ``"target_heading"`` gives it the target's heading.
+    parent : int, optional
+        The object starts near its target (the target is its *parent*); when
+        several rules name different targets, the lowest ``parent`` wins
+        (0 is the strongest bond).
+    clear_wall_above_target : bool
+        The rule hangs its object on the wall above the target (a picture
+        above a bed): the target starts where that wall has no door or window.
+    """
+
+    place: str | None = None
+    turn: str | None = None
+    parent: int | None = None
+    clear_wall_above_target: bool = False
+
+    PLACES: ClassVar[frozenset[str]] = frozenset(
+        {"wall", "corner", "middle", "window", "door", "beside", "left", "right", "front",
+         "behind"})
+    TURNS: ClassVar[frozenset[str]] = frozenset({"face_target", "target_heading"})
+
+    def __post_init__(self) -> None:
+        if self.place is not None and self.place not in self.PLACES:
+            raise ValueError(f"StartHint.place {self.place!r} is not one of {sorted(self.PLACES)}")
+        if self.turn is not None and self.turn not in self.TURNS:
+            raise ValueError(f"StartHint.turn {self.turn!r} is not one of {sorted(self.TURNS)}")
+
+
+@dataclass(frozen=True)
+class Access:
+    """Floor a person needs beside an object to use it (kept clear by the engine).
+
+    Attributes
+    ----------
+    sides : tuple of str
+        Sides of the object's footprint that need free floor, any of
+        ``"front"``, ``"back"``, ``"left"``, ``"right"``; a person uses one
+        of them (e.g. either long side of a bed).
+    depth : float
+        Depth of the free floor in front of that side, metres.
+    """
+
+    sides: tuple[str, ...] = ("front",)
+    depth: float = 0.6
+
+    SIDES: ClassVar[frozenset[str]] = frozenset({"front", "back", "left", "right"})
+
+    def __post_init__(self) -> None:
+        bad = set(self.sides) - self.SIDES
+        if bad or not self.sides:
+            raise ValueError(f"Access.sides must name some of {sorted(self.SIDES)}, got "
+                             f"{self.sides!r}")
+        if not self.depth > 0:
+            raise ValueError(f"Access.depth must be > 0 metres, got {self.depth!r}")
 
 
 @dataclass
@@ -243,11 +334,44 @@ class Rule:
 
     Subclass attributes
     -------------------
+    A rule declares on its class everything the engine needs to know about it;
+    start poses, the scene graph, the surface stage, plan validation, the
+    metrics and the testing strategies read these attributes and never match
+    rule names.
+
     name : str
         Registry name, set by :func:`forcelayout.rules.register`.
+    target : {"none", "required", "optional"}
+        Whether a binding names a target object (``"required"`` for rules
+        between two objects such as ``next_to``).
+    surface : {"floor", "top", "wall", "ceiling"}
+        Where the rule places its object. ``"floor"`` rules push and pull in
+        the floor simulation; the others take the object off the floor: on
+        its target's top, on a wall (above the target if one is given), or
+        on the ceiling (over the target if one is given). An object is bound
+        by at most one off-floor rule.
     kind : {"unary", "binary", "surface"}
-        ``unary`` rules relate an object to the room, ``binary`` rules need a
-        ``target`` object, ``surface`` rules place an object off the floor.
+        Derived from ``target`` and ``surface`` (for listings). A class that
+        sets only ``kind = "binary"`` gets ``target = "required"``.
+    bond : bool
+        Whether a binding makes its target the object's *parent* in the
+        scene graph (:func:`forcelayout.hierarchy.scene_graph`) when the plan
+        does not say (``RuleSpec.bond``). Floor rules bond only objects of
+        one functional area.
+    start : StartHint, optional
+        How start poses lean towards the rule (:class:`StartHint`).
+    access : Access, optional
+        Free floor the bound object needs to be used (:class:`Access`).
+    hard : bool
+        Weight class. A hard placement rule (``at_wall``, ``in_corner``)
+        fixes the object's heading: on an object bound by one, the torques
+        of the soft rules are scaled down
+        (:data:`forcelayout.forces.SOFT_TORQUE_ON_HARD`) so a relation such
+        as ``facing`` slides the object rather than turning its back off the
+        wall.
+    relation : bool
+        Whether the relational diversity metric
+        (:func:`forcelayout.metrics.relation_triples`) counts the rule.
     weight : float
         Default strength (dimensionless multiplier on the force). The paper's
         order is repulsion > hard placement (``at_wall``) > soft relations
@@ -255,12 +379,6 @@ class Rule:
     reaction : float
         Fraction of the force on ``i`` applied, reversed, to the target ``j``
         (binary rules only). 0 keeps the target still, 0.5 splits the pull.
-    hard : bool
-        A hard placement rule (``at_wall``, ``in_corner``) that fixes the
-        object's heading: on an object bound by one, the torques of the soft
-        rules are scaled down (:data:`forcelayout.forces.SOFT_TORQUE_ON_HARD`)
-        so a relation such as ``facing`` slides the object rather than
-        turning its back off the wall.
     Params : pydantic model
         Parameters with defaults and units in their descriptions.
 
@@ -275,10 +393,48 @@ class Rule:
     """
 
     name: ClassVar[str] = ""
+    target: ClassVar[TargetNeed] = "none"
+    surface: ClassVar[Surface] = "floor"
     kind: ClassVar[RuleKind] = "unary"
+    bond: ClassVar[bool] = False
+    start: ClassVar[StartHint | None] = None
+    access: ClassVar[Access | None] = None
+    hard: ClassVar[bool] = False
+    relation: ClassVar[bool] = False
     weight: ClassVar[float] = 1.0
     reaction: ClassVar[float] = 0.0
-    hard: ClassVar[bool] = False
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        own = cls.__dict__
+        if "kind" in own and "target" not in own and "surface" not in own:
+            if own["kind"] == "binary":  # the first release's spelling of a target rule
+                cls.target = "required"
+            elif own["kind"] == "unary":
+                cls.target = "none"
+            elif own["kind"] == "surface":
+                raise TypeError(f"{cls.__qualname__}: say where a surface rule places its "
+                                "object with surface = 'top', 'wall' or 'ceiling'")
+        if cls.target not in ("none", "required", "optional"):
+            raise TypeError(f"{cls.__qualname__}.target must be 'none', 'required' or "
+                            f"'optional', got {cls.target!r}")
+        if cls.surface not in ("floor", "top", "wall", "ceiling"):
+            raise TypeError(f"{cls.__qualname__}.surface must be 'floor', 'top', 'wall' or "
+                            f"'ceiling', got {cls.surface!r}")
+        if cls.surface == "top" and cls.target != "required":
+            raise TypeError(f"{cls.__qualname__}: a rule that places its object on a top "
+                            "needs target = 'required' (the object it rests on)")
+        if cls.start is not None and not isinstance(cls.start, StartHint):
+            raise TypeError(f"{cls.__qualname__}.start must be a StartHint or None")
+        if cls.access is not None and not isinstance(cls.access, Access):
+            raise TypeError(f"{cls.__qualname__}.access must be an Access or None")
+        cls.kind = ("surface" if cls.surface != "floor"
+                    else "binary" if cls.target == "required" else "unary")
+
+    @classmethod
+    def takes_target(cls) -> bool:
+        """Whether a binding may name a target object."""
+        return cls.target != "none"
 
     class Params(BaseModel):
         """No parameters."""

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
-from forcelayout.rules.base import ParamArrays, Rule, State
+from forcelayout.rules.base import ParamArrays, Rule, StartHint, State
 from forcelayout.rules.unary import CAP, GAIN, _extent, _ramp, _signed_angle, _unit
 
 __all__ = [
@@ -62,7 +62,7 @@ def _gap_estimate(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
 class _Distance(Rule):
     """Shared pull towards the target while the gap exceeds a bound."""
 
-    kind = "binary"
+    target = "required"
     reaction = 0.2
 
     def _pull(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays, target):
@@ -74,6 +74,9 @@ class _Distance(Rule):
 class NextTo(_Distance):
     """Beside the target: footprint gap at most `distance` metres."""
 
+    bond = True
+    relation = True
+    start = StartHint(place="beside", parent=0)
     weight = 1.5
 
     class Params(Rule.Params):
@@ -89,6 +92,8 @@ class NextTo(_Distance):
 class Near(_Distance):
     """Near the target: footprint gap at most `distance` metres (a soft relation)."""
 
+    relation = True
+    start = StartHint(parent=6)
     weight = 1.0
 
     class Params(Rule.Params):
@@ -107,7 +112,7 @@ class FarFrom(Rule):
     Both objects are pushed apart (``reaction`` 0.5).
     """
 
-    kind = "binary"
+    target = "required"
     weight = 1.0
     reaction = 0.5
 
@@ -141,7 +146,9 @@ class Facing(Rule):
     also turn the object.
     """
 
-    kind = "binary"
+    target = "required"
+    relation = True
+    start = StartHint(turn="face_target", parent=8)
     weight = 1.5
 
     class Params(Rule.Params):
@@ -170,7 +177,8 @@ class FaceSameAs(Rule):
     A torque only (e.g. a row of bookshelves or chairs in a row).
     """
 
-    kind = "binary"
+    target = "required"
+    start = StartHint(turn="target_heading")
     weight = 1.0
 
     class Params(Rule.Params):
@@ -200,7 +208,7 @@ class _Side(Rule):
     ``lateral`` of the target's centre line.
     """
 
-    kind = "binary"
+    target = "required"
     weight = 1.5
     reaction = 0.3
 
@@ -261,6 +269,8 @@ class InFrontOf(_Side):
     """
 
     _sign, _front = 1.0, True
+    bond = True
+    start = StartHint(place="front", parent=2)
 
 
 class Behind(_Side):
@@ -272,6 +282,7 @@ class Behind(_Side):
     """
 
     _sign, _front = -1.0, True
+    start = StartHint(place="behind", parent=3)
 
 
 class LeftOf(_Side):
@@ -283,6 +294,7 @@ class LeftOf(_Side):
     """
 
     _sign, _front = -1.0, False
+    start = StartHint(place="left", parent=4)
 
 
 class RightOf(_Side):
@@ -294,6 +306,7 @@ class RightOf(_Side):
     """
 
     _sign, _front = 1.0, False
+    start = StartHint(place="right", parent=5)
 
 
 class AlignedWith(Rule):
@@ -305,7 +318,8 @@ class AlignedWith(Rule):
     is nearer), e.g. a row of shelves or a lamp lined up with a sofa.
     """
 
-    kind = "binary"
+    target = "required"
+    start = StartHint(turn="target_heading", parent=7)
     weight = 1.0
 
     class Params(Rule.Params):
@@ -348,7 +362,9 @@ class Around(Rule):
     spreads the objects bound around the same target evenly around it.
     """
 
-    kind = "binary"
+    target = "required"
+    bond = True
+    start = StartHint(turn="face_target", parent=1)
     weight = 2.0
 
     class Params(Rule.Params):

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
-from forcelayout.rules.base import ParamArrays, Rule, State
+from forcelayout.rules.base import ParamArrays, Rule, StartHint, State
 
 __all__ = ["OnTop", "OnWall", "OnWallMid", "Above", "OnCeiling", "wall_index", "wall_band"]
 
@@ -69,7 +69,7 @@ def _zeros(i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 class _SurfaceRule(Rule):
-    kind = "surface"
+    surface = "wall"
     weight = 1.0
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
@@ -84,6 +84,11 @@ class OnTop(_SurfaceRule):
     ``tolerance`` metres), its surface is the target's id and its ``z`` equals
     the target's ``z`` plus its height.
     """
+
+    surface = "top"
+    target = "required"
+    bond = True
+    relation = True
 
     class Params(Rule.Params):
         tolerance: float = Field(0.01, ge=0, description="Slack at the top's edges, m.")
@@ -111,6 +116,9 @@ class OnWall(_SurfaceRule):
     within the wall's length, and its height band holds. ``wall`` pins the
     wall; by default any wall with a free stretch wide enough is used.
     """
+
+    surface = "wall"
+    relation = True
 
     class Params(Rule.Params):
         low: float = Field(0.3, ge=0, description="Lowest bottom edge above the floor, m.")
@@ -153,6 +161,11 @@ class Above(_SurfaceRule):
     most ``high``, default the ceiling).
     """
 
+    surface = "wall"
+    target = "required"
+    bond = True
+    start = StartHint(clear_wall_above_target=True)
+
     class Params(Rule.Params):
         clearance: float = Field(0.1, ge=0, description="Smallest gap above the target, m.")
         high: float | None = Field(None, gt=0,
@@ -189,6 +202,10 @@ class OnCeiling(_SurfaceRule):
     a functional area; the light is then centred over that area's objects
     (such bindings are placed but not judged).
     """
+
+    surface = "ceiling"
+    target = "optional"
+    relation = True
 
     class Params(Rule.Params):
         centred: bool = Field(True, description="Centre over the room or the target.")

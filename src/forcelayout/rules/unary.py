@@ -18,7 +18,7 @@ import weakref
 import numpy as np
 from pydantic import Field
 
-from forcelayout.rules.base import ParamArrays, Rule, State
+from forcelayout.rules.base import ParamArrays, Rule, StartHint, State
 
 __all__ = ["AtWall", "InCorner", "InMiddle", "NearWindow", "NearDoor", "AwayFromDoor"]
 
@@ -115,8 +115,9 @@ class AtWall(Rule):
     torque turns its back to that wall.
     """
 
-    kind = "unary"
     hard = True
+    relation = True
+    start = StartHint(place="wall")
     weight = 3.0
 
     class Params(Rule.Params):
@@ -174,8 +175,9 @@ class InCorner(Rule):
     it up with the corner's walls.
     """
 
-    kind = "unary"
     hard = True
+    relation = True
+    start = StartHint(place="corner")
     weight = 3.0
 
     class Params(Rule.Params):
@@ -215,7 +217,8 @@ class InMiddle(Rule):
     corner. The force pulls the centre towards the centroid.
     """
 
-    kind = "unary"
+    relation = True
+    start = StartHint(place="middle")
     weight = 2.0
 
     class Params(Rule.Params):
@@ -242,7 +245,7 @@ class InMiddle(Rule):
 class _NearOpening(Rule):
     """Centre within `distance` of the nearest opening (doors or windows)."""
 
-    kind = "unary"
+    relation = True
     weight = 1.5
     _openings = "windows"
 
@@ -284,6 +287,7 @@ class NearWindow(_NearOpening):
     """
 
     _openings = "windows"
+    start = StartHint(place="window")
 
 
 class NearDoor(_NearOpening):
@@ -294,6 +298,7 @@ class NearDoor(_NearOpening):
     """
 
     _openings = "doors"
+    start = StartHint(place="door")
 
 
 class AwayFromDoor(Rule):
@@ -303,7 +308,6 @@ class AwayFromDoor(Rule):
     away from the nearest door that is too close.
     """
 
-    kind = "unary"
     weight = 1.5
 
     class Params(Rule.Params):

@@ -7,7 +7,7 @@ and the hierarchical path (area variants + combinatorial assembly):
   met) over ``--samples`` raw samples drawn with :func:`forcelayout.solve`;
 * ``good_per_second`` — such layouts per CPU second on one core;
 * ``stage_ms`` — mean milliseconds per stage (floor or variants/assembly,
-  on_top, walls, ceiling);
+  tops, walls, ceiling);
 
 and, for combinatorial assembly from ``--variants`` variants per area:
 

@@ -123,7 +123,7 @@ def test_hierarchical_solve_places_every_object_and_is_seeded(bedroom):
     b = fl.solve(bedroom, 5, options=opts)
     assert a.report.missing == [] and set(a.poses) == set(bedroom.ids)
     assert a.poses == b.poses
-    assert {"variants", "assembly", "on_top", "walls", "ceiling"} <= set(a.report.stages)
+    assert {"variants", "assembly", "tops", "walls", "ceiling"} <= set(a.report.stages)
     assert a.poses["lamp"].surface == "nightstand_1"
     room = a.room
     floor = a.state()

@@ -15,9 +15,10 @@ Examples
 from forcelayout import examples, rules
 from forcelayout.errors import MissingExtraError, PlanError, Problem, UnknownRuleError
 from forcelayout.layout import Layout, Pose, RuleResult, SampleReport
-from forcelayout.plan import Area, Door, Plan, Room, RuleSpec, SceneObject, Window, load_plan
-from forcelayout.sampling import Generation, Options, generate, solve
-from forcelayout.solver import SolverConfig
+from forcelayout.options import Options, SolverConfig
+from forcelayout.plan import Area, Door, Plan, Room, RuleSpec, SceneObject, Window
+from forcelayout.sampling import Generation, generate, solve
+from forcelayout.sources import load_plan
 
 __all__ = [
     "Plan",

@@ -45,7 +45,7 @@ def _cmd_rules(args: argparse.Namespace) -> int:
 
 def _cmd_validate(args: argparse.Namespace) -> int:
     from forcelayout.layout import Layout
-    from forcelayout.plan import load_plan
+    from forcelayout.sources import load_plan
     from forcelayout.validate import check_layout
 
     plan = load_plan(args.plan)
@@ -71,7 +71,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
 def _cmd_render(args: argparse.Namespace) -> int:
     from forcelayout.layout import Layout
-    from forcelayout.plan import load_plan
+    from forcelayout.sources import load_plan
 
     plan = load_plan(args.plan)
     for path in args.layouts:

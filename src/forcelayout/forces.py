@@ -1,169 +1,99 @@
-"""A plan compiled to numpy arrays: the net force and torque of eqs. (2)–(3).
+"""The net force and torque of eqs. (2)–(3): a sum of force terms.
 
-:class:`ForceModel` groups the plan's rule bindings by rule, so each rule is
-called once per step with index arrays over all of its bindings, and adds the
-always-on physical terms. It knows nothing about Box2D; the solver asks it for
-forces and torques and moves the bodies.
+A :class:`ForceModel` holds the objects of one simulation (rows of the state
+arrays), the room and a list of **force terms**. :meth:`ForceModel.net` is
+the one entry point the solver calls: it sums every term. Three kinds of
+term are built in —
+
+* :class:`RuleTerm`: the rule bindings, grouped by rule so each rule is
+  called once per step over all its bindings (annealed);
+* :class:`PassageTerm`: walking room between objects no rule relates
+  (annealed, like the rules);
+* :class:`PhysicalTerm`: repulsion, boundary, alignment and door clearance
+  (always on, not annealed);
+
+and a caller adds its own with :meth:`ForceModel.add_term` (the surface
+planes add a spring to eye level or over a target; a user may add anything).
+A term is any object with a boolean attribute ``annealed`` and a method
+``__call__(state, temperature) -> (F (N, 2), tau (N,))``. Annealed terms are
+sampled every ``SolverConfig.semantic_interval`` steps (multiple time
+stepping); the others every step. Each term decides how it uses the
+temperature.
+
+The model knows nothing about Box2D; the solver asks it for forces and moves
+the bodies.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass, field
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from forcelayout import rules as registry
+from forcelayout.bindings import Binding, CompiledPlan, RuleGroup, compile_plan, group_bindings
 from forcelayout.geometry import RoomGeometry
-from forcelayout.plan import SURFACE_RULES, Plan
-from forcelayout.rules.base import ParamArrays, Rule, State
+from forcelayout.plan import Plan
+from forcelayout.rules.base import State
 from forcelayout.rules.physical import PhysicalWeights, physical, repulsion
 
-__all__ = ["RuleGroup", "ForceModel", "binding_weight", "SOFT_TORQUE_ON_HARD"]
+__all__ = [
+    "ForceTerm",
+    "RuleTerm",
+    "PassageTerm",
+    "PhysicalTerm",
+    "ForceModel",
+    "RuleGroup",
+    "SOFT_TORQUE_ON_HARD",
+]
 
 #: Scale of soft rules' torques on objects that a hard rule (``Rule.hard``) orients.
 SOFT_TORQUE_ON_HARD = 0.2
 
 
-@dataclass
-class RuleGroup:
-    """All bindings of one rule within a simulation.
+@runtime_checkable
+class ForceTerm(Protocol):
+    """What :meth:`ForceModel.net` sums: a callable with an ``annealed`` flag.
 
     Attributes
     ----------
-    rule : Rule
-    i : ndarray of int, shape (B,)
-        Row of each bound object in the state arrays.
-    j : ndarray of int, shape (B,), or None
-        Row of each target (binary rules).
-    params : ParamArrays
-        Parameters per binding; ``params.weight`` holds the base weights.
-    spec_index : ndarray of int, shape (B,)
-        Index of each binding in ``plan.rules``.
+    annealed : bool
+        ``True`` for semantic terms (sampled every ``semantic_interval``
+        steps, usually scaled by the temperature); ``False`` for physical
+        terms (every step).
     """
 
-    rule: Rule
-    i: np.ndarray
-    j: np.ndarray | None
-    params: ParamArrays
-    spec_index: np.ndarray
-    unique_i: bool = field(init=False)
+    annealed: bool
 
-    def __post_init__(self) -> None:
-        self.unique_i = len(np.unique(self.i)) == len(self.i)
-
-    def at_temperature(self, temperature: float) -> ParamArrays:
-        """Params with the weights multiplied by the annealing temperature."""
-        return ParamArrays(self.params._fields, self.params.weight * temperature)
+    def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
+        """Force (N, 2) and torque (N,) on every object of ``state``."""
+        ...
 
 
-def binding_weight(plan: Plan, k: int, rule: Rule) -> float:
-    """Effective weight of ``plan.rules[k]``.
+class RuleTerm:
+    """The rule bindings of a simulation, one call per rule per step (annealed).
 
-    The binding's own ``weight`` if given, else the plan's ``weights[rule]``,
-    else the rule's default :attr:`Rule.weight`.
-    """
-    spec = plan.rules[k]
-    if spec.weight is not None:
-        return float(spec.weight)
-    return float(plan.weights.get(spec.rule, rule.weight))
-
-
-class ForceModel:
-    """Net force and torque on a set of objects of a plan.
-
-    Parameters
-    ----------
-    plan : Plan
-    ids : sequence of str, optional
-        The objects simulated together (rows of the state arrays). Defaults to
-        the plan's floor objects. Bindings whose object or target is not among
-        them are left out (they belong to another simulation).
-    room : RoomGeometry, optional
-        Defaults to the plan's room.
-    relations : bool, default True
-        ``False`` zeroes object-object (binary) rules — the paper's
-        −Relations ablation.
-    physical_weights : PhysicalWeights, optional
-        Strengths of the always-on terms; the plan's ``weights`` may scale
-        ``repulsion``, ``boundary`` and ``alignment``.
+    The weights are multiplied by the temperature. On objects whose heading
+    a hard rule fixes (``Rule.hard``), the torques of soft rules are scaled
+    by :data:`SOFT_TORQUE_ON_HARD`. A binding's ``reaction`` pushes back on
+    its target.
     """
 
-    def __init__(
-        self,
-        plan: Plan,
-        ids: Sequence[str] | None = None,
-        *,
-        room: RoomGeometry | None = None,
-        relations: bool = True,
-        physical_weights: PhysicalWeights | None = None,
-    ):
-        self.plan = plan
-        self.ids = tuple(ids) if ids is not None else tuple(o.id for o in plan.floor_objects())
-        self.room = room if room is not None else RoomGeometry.from_room(plan.room)
-        self.size = np.array([plan.object(i).size for i in self.ids], dtype=float).reshape(-1, 3)
-        row = {oid: r for r, oid in enumerate(self.ids)}
-        self.physical_weights = (physical_weights or PhysicalWeights()).scaled(plan.weights)
-        n = len(self.ids)
-        self.pi, self.pj = (a.astype(int) for a in np.triu_indices(n, k=1))
+    annealed = True
 
-        buckets: dict[str, list[int]] = {}
-        for k, spec in enumerate(plan.rules):
-            if spec.rule in SURFACE_RULES or spec.object not in row:
-                continue
-            rule = registry.get_rule(spec.rule)
-            if rule.kind == "surface":
-                continue
-            if rule.kind == "binary" and (spec.target not in row or not relations):
-                continue
-            buckets.setdefault(spec.rule, []).append(k)
-        self.groups: list[RuleGroup] = []
-        for name, ks in buckets.items():
-            rule = registry.get_rule(name)
-            specs = [plan.rules[k] for k in ks]
-            i = np.array([row[s.object] for s in specs], dtype=int)
-            j = (np.array([row[s.target] for s in specs], dtype=int)  # type: ignore[index]
-                 if rule.kind == "binary" else None)
-            params = [rule.Params.model_validate(s.params) for s in specs]
-            w = np.array([binding_weight(plan, k, rule) for k in ks])
-            self.groups.append(RuleGroup(rule, i, j, ParamArrays.from_models(params, w),
-                                         np.array(ks, dtype=int)))
-
-        # pairs that a binary rule relates may stand close; others keep walking room apart
-        related = np.zeros((n, n), dtype=bool)
-        for g in self.groups:
-            if g.j is not None:
-                related[g.i, g.j] = related[g.j, g.i] = True
-        # soft torques yield on objects whose heading a hard rule fixes
+    def __init__(self, groups: Sequence[RuleGroup], n: int):
+        self.groups = list(groups)
         held = np.zeros(n, dtype=bool)
         for g in self.groups:
             if g.rule.hard:
                 held[g.i] = True
         self.soft_torque_scale = np.where(held, SOFT_TORQUE_ON_HARD, 1.0)
-        free = ~related[self.pi, self.pj]
-        self.qi, self.qj = self.pi[free], self.pj[free]  # pairs that get walking room
 
-    @property
-    def n(self) -> int:
-        """Number of simulated objects."""
-        return len(self.ids)
-
-    def state(self, pos: np.ndarray, yaw: np.ndarray) -> State:
-        """A :class:`State` of these objects at the given poses."""
-        return State(np.asarray(pos, dtype=float), np.asarray(yaw, dtype=float), self.size,
-                     self.room, self.ids)
-
-    def semantic(self, state: State, temperature: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-        """Sum of the rule forces and torques, scaled by ``temperature``.
-
-        Includes the walking-room term between objects no rule relates
-        (:class:`PhysicalWeights` ``passage``), annealed like the rules.
-        """
+    def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
         f = np.zeros((state.n, 2))
         tau = np.zeros(state.n)
         for g in self.groups:
-            p = g.at_temperature(temperature)
-            fi, ti = g.rule.force(state, g.i, g.j, p)
+            fi, ti = g.rule.force(state, g.i, g.j, g.at_temperature(temperature))
             if not g.rule.hard:
                 ti = ti * self.soft_torque_scale[g.i]
             if g.unique_i:  # one binding per object: plain fancy-index add
@@ -174,32 +104,168 @@ class ForceModel:
                 np.add.at(tau, g.i, ti)
             if g.j is not None and g.rule.reaction:
                 np.add.at(f, g.j, -g.rule.reaction * fi)
-        w = self.physical_weights
-        if w.passage > 0 and self.qi.size:  # walking room between unrelated objects
-            fp, _ = repulsion(state, self.qi, self.qj, w, w.passage_range,
-                              w.passage * temperature)
-            f += fp
         return f, tau
 
-    def net(self, state: State, temperature: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+
+class PassageTerm:
+    """Walking room between the pairs ``(qi, qj)`` that no rule relates (annealed).
+
+    The same logarithmic push as repulsion, with ``w.passage`` and
+    ``w.passage_range`` (about an agent's width).
+    """
+
+    annealed = True
+
+    def __init__(self, qi: np.ndarray, qj: np.ndarray, weights: PhysicalWeights):
+        self.qi, self.qj, self.weights = qi, qj, weights
+
+    def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
+        w = self.weights
+        if w.passage <= 0 or not self.qi.size:
+            return np.zeros((state.n, 2)), np.zeros(state.n)
+        return repulsion(state, self.qi, self.qj, w, w.passage_range, w.passage * temperature)
+
+
+class PhysicalTerm:
+    """The always-on terms (repulsion, boundary, alignment, door clearance); not annealed."""
+
+    annealed = False
+
+    def __init__(self, pi: np.ndarray, pj: np.ndarray, weights: PhysicalWeights):
+        self.pi, self.pj, self.weights = pi, pj, weights
+
+    def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
+        return physical(state, self.pi, self.pj, self.weights)
+
+
+class ForceModel:
+    """The objects, room and force terms of one simulation.
+
+    Parameters
+    ----------
+    plan : Plan or CompiledPlan
+    ids : sequence of str, optional
+        The objects simulated together (rows of the state arrays). Defaults
+        to the plan's floor objects.
+    sizes : mapping of str to (width, depth, height), optional
+        Sizes of the rows, for objects that are not the plan's or that a
+        plane sees differently (a wall object's ``[width, height, depth]``).
+    bindings : iterable of Binding, optional
+        The rule bindings to simulate; by default the plan's floor bindings
+        among ``ids``. Bindings whose object or target is not a row are left
+        out (they belong to another simulation).
+    room : RoomGeometry, optional
+        Defaults to the plan's room.
+    relations : bool, default True
+        ``False`` drops object-object bindings — the paper's −Relations
+        ablation.
+    physical_weights : PhysicalWeights, optional
+        Strengths of the always-on terms; the plan's ``weights`` may scale
+        ``repulsion``, ``passage``, ``boundary``, ``alignment`` and ``door``.
+    terms : iterable of ForceTerm, optional
+        Extra terms, summed with the built-in ones (see :meth:`add_term`).
+    """
+
+    def __init__(
+        self,
+        plan: Plan | CompiledPlan,
+        ids: Sequence[str] | None = None,
+        *,
+        sizes: Mapping[str, Sequence[float]] | None = None,
+        bindings: Iterable[Binding] | None = None,
+        room: RoomGeometry | None = None,
+        relations: bool = True,
+        physical_weights: PhysicalWeights | None = None,
+        terms: Iterable[ForceTerm] = (),
+    ):
+        self.compiled = compile_plan(plan)
+        self.plan = self.compiled.plan
+        self.ids = tuple(ids) if ids is not None else self.compiled.floor_ids
+        self.room = room if room is not None else self.compiled.room
+        if sizes is None:
+            self.size = self.compiled.size(self.ids)
+        else:
+            self.size = np.array([sizes[i] for i in self.ids], dtype=float).reshape(-1, 3)
+        row = {oid: r for r, oid in enumerate(self.ids)}
+        if bindings is None:
+            bindings = self.compiled.floor_bindings(self.ids, relations=relations)
+        elif not relations:
+            bindings = [b for b in bindings if b.target is None or b.rule.target == "none"]
+        self.bindings = tuple(bindings)
+        self.groups = group_bindings(self.bindings, row)
+        self.physical_weights = (physical_weights or PhysicalWeights()).scaled(self.plan.weights)
+        n = len(self.ids)
+        self.pi, self.pj = (a.astype(int) for a in np.triu_indices(n, k=1))
+        # pairs that a rule relates may stand close; others keep walking room apart
+        related = np.zeros((n, n), dtype=bool)
+        for g in self.groups:
+            if g.j is not None:
+                related[g.i, g.j] = related[g.j, g.i] = True
+        free = ~related[self.pi, self.pj]
+        self.rules = RuleTerm(self.groups, n)
+        self.terms: list[ForceTerm] = [
+            self.rules,
+            PassageTerm(self.pi[free], self.pj[free], self.physical_weights),
+            PhysicalTerm(self.pi, self.pj, self.physical_weights),
+        ]
+        for t in terms:
+            self.add_term(t)
+
+    @property
+    def n(self) -> int:
+        """Number of simulated objects."""
+        return len(self.ids)
+
+    def add_term(self, term: ForceTerm) -> None:
+        """Add a force term; :meth:`net` sums it with the others from then on.
+
+        Raises
+        ------
+        TypeError
+            If ``term`` is not callable or has no boolean ``annealed``.
+        """
+        if not callable(term) or not isinstance(getattr(term, "annealed", None), bool):
+            raise TypeError("a force term is a callable term(state, temperature) -> (F, tau) "
+                            f"with a boolean attribute 'annealed'; got {term!r}")
+        self.terms.append(term)
+
+    def state(self, pos: np.ndarray, yaw: np.ndarray) -> State:
+        """A :class:`State` of these objects at the given poses."""
+        return State(np.asarray(pos, dtype=float), np.asarray(yaw, dtype=float), self.size,
+                     self.room, self.ids)
+
+    def net(self, state: State, temperature: float = 1.0, *, annealed: bool | None = None
+            ) -> tuple[np.ndarray, np.ndarray]:
         """Net force (N, 2) and torque (N,) on every object: eqs. (2) and (3).
 
-        Semantic terms are scaled by the annealing ``temperature``; the
-        physical terms (repulsion, boundary, alignment, door clearance) are
-        not.
+        The sum of every term. ``annealed=True`` sums only the annealed
+        (semantic) terms, ``annealed=False`` only the others; the solver
+        calls both, the first less often (multiple time stepping).
         """
-        f, tau = self.semantic(state, temperature)
-        fp, tp = self.physical(state)
-        return f + fp, tau + tp
+        f = np.zeros((state.n, 2))
+        tau = np.zeros(state.n)
+        for term in self.terms:
+            if annealed is None or term.annealed == annealed:
+                fk, tk = term(state, temperature)
+                f += fk
+                tau += tk
+        return f, tau
+
+    def semantic(self, state: State, temperature: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+        """The annealed terms alone (``net(..., annealed=True)``)."""
+        return self.net(state, temperature, annealed=True)
 
     def physical(self, state: State) -> tuple[np.ndarray, np.ndarray]:
-        """The always-on terms alone (repulsion, boundary, alignment, door clearance)."""
-        return physical(state, self.pi, self.pj, self.physical_weights)
+        """The always-on terms alone (``net(..., annealed=False)``)."""
+        return self.net(state, 1.0, annealed=False)
 
     def satisfied(self, state: State) -> dict[int, bool]:
-        """Whether each simulated binding is met: ``{plan rule index: bool}``."""
+        """Whether each simulated binding is met, by the rule's own check.
+
+        Returns ``{k: met}`` keyed by position in :attr:`bindings`
+        (``self.bindings[k].index`` is the binding's index in ``plan.rules``).
+        """
         out: dict[int, bool] = {}
         for g in self.groups:
-            ok = np.asarray(g.rule.satisfied(state, g.i, g.j, g.params), dtype=bool)
-            out.update(zip(g.spec_index.tolist(), ok.tolist(), strict=True))
+            out.update(zip(g.position.tolist(), g.satisfied(state).tolist(), strict=True))
         return out

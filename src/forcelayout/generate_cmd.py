@@ -13,8 +13,9 @@ import sys
 from concurrent.futures import Executor, ProcessPoolExecutor
 from pathlib import Path
 
-from forcelayout.plan import Plan, load_plan
+from forcelayout.plan import Plan
 from forcelayout.sampling import Options, generate
+from forcelayout.sources import load_plan
 
 __all__ = ["run_generate"]
 

@@ -1,13 +1,15 @@
 """Hierarchical generation (paper §III-B-3): scene graph, area variants, assembly.
 
 1. :func:`scene_graph` turns a plan into a :class:`networkx.DiGraph`. Strong
-   dependencies are parent → child edges (``strong=True``): ``on_top`` and
-   ``above`` (target → object), and *bonds* — binary rules whose spec has
-   ``bond: true``, or, when a spec says nothing, ``next_to``,
-   ``in_front_of`` and ``around`` between two floor objects of the same
-   functional area (a default bond that would close a cycle stays a peer
-   relation). Every other binary rule (``facing``, ``near``, ...) is a
-   peer constraint (``strong=False``, object → target).
+   dependencies are parent → child edges (``strong=True``): off-floor rules
+   whose class declares ``bond = True`` (``on_top``, ``above``: target →
+   object), and *bonds* between floor objects — rules whose spec has
+   ``bond: true``, or, when a spec says nothing, whose class declares
+   ``bond = True`` (``next_to``, ``in_front_of``, ``around``), between two
+   floor objects of the same functional area (a default bond that would
+   close a cycle stays a peer relation). Every other rule with a target
+   (``facing``, ``near``, ...) is a peer constraint (``strong=False``,
+   object → target).
 2. :func:`area_variants` makes local variants of one functional area in its
    own frame: parents are placed at random and settled first, then their
    children are introduced next to them and settled, level by level.
@@ -29,24 +31,22 @@ import itertools
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
 
 import networkx as nx
 import numpy as np
 
-from forcelayout import rules as registry
+from forcelayout.bindings import Binding, CompiledPlan, compile_plan
 from forcelayout.errors import PlanError, Problem
 from forcelayout.forces import ForceModel
 from forcelayout.geometry import RoomGeometry, box_corners
+from forcelayout.initial import initial_poses
 from forcelayout.layout import Pose
-from forcelayout.plan import SURFACE_RULES, Plan, RuleSpec, SceneObject
-from forcelayout.solver import SolverConfig, simulate
-
-if TYPE_CHECKING:
-    from forcelayout.sampling import Options
+from forcelayout.options import Options, SolverConfig
+from forcelayout.plan import Plan
+from forcelayout.rules.unary import AtWall
+from forcelayout.solver import simulate
 
 __all__ = [
-    "DEFAULT_BONDS",
     "AreaVariant",
     "VariantLibrary",
     "scene_graph",
@@ -56,22 +56,25 @@ __all__ = [
     "sample_floor",
 ]
 
-#: Binary rules that bond an object to its target (parent) when the spec does not say.
-DEFAULT_BONDS = frozenset({"next_to", "in_front_of", "around"})
-#: Unary rules kept in an area's local frame (the others need the real room).
-_LOCAL_UNARY = frozenset({"at_wall"})
+#: Start places of room rules that keep their meaning in an area's frame (its edges).
+_LOCAL_PLACES = frozenset({"wall"})
+#: Start places of area rules that already say where an area's rectangle stands.
+_AREA_PLACES = frozenset({"wall", "middle"})
 _FREE = "@"
 
 
-def _is_bond(spec: RuleSpec, plan: Plan, floor: set[str]) -> bool | None:
-    explicit = getattr(spec, "bond", None)
-    if explicit is not None:
-        return bool(explicit)
-    if spec.rule not in DEFAULT_BONDS or spec.target is None:
+def _against_wall(b: Binding) -> bool:
+    return b.rule.start is not None and b.rule.start.place in _LOCAL_PLACES
+
+
+def _is_bond(b: Binding, plan: Plan, floor: set[str]) -> bool | None:
+    if b.bond is not None:
+        return bool(b.bond)
+    if not b.rule.bond or b.target is None:
         return False
-    if spec.object not in floor or spec.target not in floor:
+    if b.object not in floor or b.target not in floor:
         return False
-    if plan.object(spec.object).area != plan.object(spec.target).area:
+    if plan.object(b.object).area != plan.object(b.target).area:
         return False
     return None  # a default bond: kept unless it closes a cycle
 
@@ -98,30 +101,30 @@ def scene_graph(plan: Plan) -> nx.DiGraph:
     True
     """
     g = nx.DiGraph(name=plan.name)
-    floor = {o.id for o in plan.floor_objects()}
+    cp = compile_plan(plan)
+    floor = set(cp.floor_ids)
     for o in plan.objects:
         g.add_node(o.id, category=o.category, area=o.area, surface=plan.surface_of(o.id),
                    primary=o.primary, decor=o.decor)
     ids = set(plan.ids)
     strong = nx.DiGraph()
-    pending: list[RuleSpec] = []
-    for spec in plan.rules:
-        if spec.target is None or spec.target not in ids:
+    pending: list[Binding] = []
+    for b in cp.bindings:
+        if b.target is None or b.target not in ids:
             continue
-        if spec.rule in ("on_top", "above"):
-            _add(g, spec.target, spec.object, spec.rule, True)
-            strong.add_edge(spec.target, spec.object)
+        if b.rule.surface != "floor":
+            if b.rule.bond if b.bond is None else b.bond:
+                _add(g, b.target, b.object, b.rule.name, True)
+                strong.add_edge(b.target, b.object)
             continue
-        if spec.rule in SURFACE_RULES:
-            continue
-        bond = _is_bond(spec, plan, floor)
+        bond = _is_bond(b, plan, floor)
         if bond:
-            _add(g, spec.target, spec.object, spec.rule, True)
-            strong.add_edge(spec.target, spec.object)
+            _add(g, b.target, b.object, b.rule.name, True)
+            strong.add_edge(b.target, b.object)
         elif bond is None:
-            pending.append(spec)
+            pending.append(b)
         else:
-            _add(g, spec.object, spec.target, spec.rule, False)
+            _add(g, b.object, b.target, b.rule.name, False)
     try:
         cycle = nx.find_cycle(strong)
     except nx.NetworkXNoCycle:
@@ -130,14 +133,14 @@ def scene_graph(plan: Plan) -> nx.DiGraph:
         chain = " -> ".join([cycle[0][0], *(b for _, b in cycle)])
         raise PlanError([Problem("rules", f"bond cycle {chain}: an object cannot be the parent "
                                  "of its own parent; set 'bond': false on one of these rules")])
-    for spec in pending:  # default bonds, unless they close a cycle or give a second parent
-        tgt, obj = spec.target, spec.object
+    for b in pending:  # default bonds, unless they close a cycle or give a second parent
+        tgt, obj = b.target, b.object
         if strong.has_node(obj) and strong.in_degree(obj) > 0 or (
                 strong.has_node(obj) and strong.has_node(tgt) and nx.has_path(strong, obj, tgt)):
-            _add(g, obj, tgt, spec.rule, False)  # type: ignore[arg-type]
+            _add(g, obj, tgt, b.rule.name, False)  # type: ignore[arg-type]
             continue
         strong.add_edge(tgt, obj)
-        _add(g, tgt, obj, spec.rule, True)  # type: ignore[arg-type]
+        _add(g, tgt, obj, b.rule.name, True)  # type: ignore[arg-type]
     return g
 
 
@@ -227,23 +230,20 @@ class AreaVariant:
     back_at_wall: bool = False
 
 
-def _local_rules(plan: Plan, ids: set[str], roots: set[str], relations: bool
-                 ) -> list[RuleSpec]:
-    """Rules simulated in an area's frame: object-object rules, and the roots' ``at_wall``."""
+def _local_bindings(cp: CompiledPlan, ids: set[str], roots: set[str], relations: bool
+                    ) -> list[Binding]:
+    """Bindings simulated in an area's frame: object-object rules, and the roots'
+    wall rules (the frame's edges stand in for the room's walls)."""
     out = []
-    for s in plan.rules:
-        if s.object not in ids or s.rule in SURFACE_RULES:
+    for b in cp.bindings:
+        if b.object not in ids or b.rule.surface != "floor":
             continue
-        kind = registry.get_rule(s.rule).kind
-        if kind == "binary" and relations and s.target in ids:
-            out.append(s)
-        elif kind == "unary" and s.rule in _LOCAL_UNARY and s.object in roots:
-            out.append(s)
+        if b.rule.target == "required":
+            if relations and b.target in ids:
+                out.append(b)
+        elif b.target is None and _against_wall(b) and b.object in roots:
+            out.append(b)
     return out
-
-
-def _sub_plan(plan: Plan, rules: list[RuleSpec]) -> Plan:
-    return plan.model_copy(update={"rules": rules})
 
 
 def area_variants(
@@ -299,14 +299,16 @@ def area_variants(
                  max(span, big))
     side_d = min(max(need, big), max(span, big))
     frame = RoomGeometry(np.array([[0, 0], [side_w, 0], [side_w, side_d], [0, side_d]]), 1.0)
-    at_wall = {s.object for s in plan.rules if s.rule == "at_wall"}
+    cp = compile_plan(plan)
+    at_wall = {b.object for b in cp.bindings if b.target is None and _against_wall(b)}
     roots = {m for m in members if depth.get(m, 0) == 0}
-    sub = _sub_plan(plan, _local_rules(plan, set(members), roots, relations))
+    local = _local_bindings(cp, set(members), roots, relations)
     facing: dict[str, list[str]] = {}
-    for s_ in plan.rules:
-        if s_.rule == "facing" and s_.object in roots and s_.target in roots:
-            facing.setdefault(s_.object, []).append(s_.target)  # type: ignore[arg-type]
-            facing.setdefault(s_.target, []).append(s_.object)  # type: ignore[arg-type]
+    for b in cp.bindings:
+        turn = b.rule.start.turn if b.rule.start is not None else None
+        if turn == "face_target" and b.object in roots and b.target in roots:
+            facing.setdefault(b.object, []).append(b.target)  # type: ignore[arg-type]
+            facing.setdefault(b.target, []).append(b.object)  # type: ignore[arg-type]
     levels = sorted({depth.get(m, 0) for m in members})
     area_of = size[:, 0] * size[:, 1]
     reach = size[:, :2].max(axis=1) / 2 + 0.02
@@ -356,7 +358,7 @@ def area_variants(
             active = done | new
             pos[new] = np.clip(pos[new], np.minimum(lo_c[new], hi_c[new]), hi_c[new])
             ids = [m for m, a in zip(members, active, strict=True) if a]
-            model = ForceModel(sub, ids, room=frame, relations=relations)
+            model = ForceModel(cp, ids, bindings=local, room=frame, relations=relations)
             res = simulate(model, pos[active], yaw[active], cfg, fixed=done[active])
             pos[active], yaw[active] = res.pos, res.yaw
             steps += res.steps
@@ -382,56 +384,62 @@ def _on_frame_wall(side: int, size: np.ndarray, w: float, d: float, rng: np.rand
         (np.array([hd + 0.02, y]), -np.pi / 2)
 
 
-def _unit_plan(plan: Plan, variants: dict[str, AreaVariant], relations: bool
-               ) -> tuple[Plan, list[str], dict[str, str]]:
-    """A plan (unvalidated) whose objects are area rectangles and the free floor objects."""
+def _units(cp: CompiledPlan, variants: dict[str, AreaVariant], relations: bool
+           ) -> tuple[list[str], dict[str, tuple[float, float, float]], list[Binding]]:
+    """The room-level simulation: area rectangles and the floor objects outside any area.
+
+    Returns the unit ids, their sizes and their bindings: each area's own
+    rules (held against a wall when the variant's back holds a wall object
+    and no area rule says where the area stands), the unary rules of the
+    free objects, and one binding per rule between two different units.
+    """
+    plan = cp.plan
     unit_of: dict[str, str] = {}
-    objs: list[SceneObject] = []
+    units: list[str] = []
+    sizes: dict[str, tuple[float, float, float]] = {}
     for name, var in variants.items():
         uid = _FREE + name
         for m in var.ids:
             unit_of[m] = uid
-        objs.append(SceneObject.model_construct(
-            id=uid, category="area", description="", size=(*var.extent, var.height), area=name,
-            primary=False, decor=False))
-    for o in plan.floor_objects():
-        if o.id not in unit_of:
-            unit_of[o.id] = o.id
-            objs.append(o)
-    rules: list[RuleSpec] = []
+        units.append(uid)
+        sizes[uid] = (*var.extent, var.height)
+    for oid in cp.floor_ids:
+        if oid not in unit_of:
+            unit_of[oid] = oid
+            units.append(oid)
+            sizes[oid] = tuple(cp.size([oid])[0])  # type: ignore[assignment]
+    out: list[Binding] = []
     for name, var in variants.items():
         area = next((a for a in plan.areas if a.name == name), None)
-        area_rules = list(area.rules) if area is not None else []
-        if var.back_at_wall and not any(ar.rule in ("at_wall", "in_middle") for ar in area_rules):
-            rules.append(RuleSpec.model_construct(rule="at_wall", object=_FREE + name,
-                                                  target=None, params={}, weight=None))
-        for ar in area_rules:
-            if registry.get_rule(ar.rule).kind == "surface":
+        area_rules = [Binding.make(ar.rule, _FREE + name, None, ar.params,
+                                   ar.weight if ar.weight is not None
+                                   else plan.weights.get(ar.rule))
+                      for ar in (area.rules if area is not None else [])]
+        placed = any(b.rule.start is not None and b.rule.start.place in _AREA_PLACES
+                     for b in area_rules)
+        if var.back_at_wall and not placed:
+            out.append(Binding.make(AtWall(), _FREE + name))
+        for ar, b in zip(area.rules if area is not None else [], area_rules, strict=True):
+            if b.rule.surface != "floor":
                 continue
-            tgt = unit_of.get(ar.target, _FREE + ar.target if ar.target in variants else None) \
-                if ar.target is not None else None
-            rules.append(RuleSpec.model_construct(rule=ar.rule, object=_FREE + name, target=tgt,
-                                                  params=ar.params, weight=ar.weight))
+            tgt = (unit_of.get(ar.target, _FREE + ar.target if ar.target in variants else None)
+                   if ar.target is not None else None)
+            out.append(Binding(b.index, b.rule, b.object, tgt, b.params, b.weight))
     seen: set[tuple[str, str, str | None]] = set()
-    for s in plan.rules:
-        if s.rule in SURFACE_RULES or s.object not in unit_of:
+    for b in cp.bindings:
+        if b.rule.surface != "floor" or b.object not in unit_of:
             continue
-        a = unit_of[s.object]
-        kind = registry.get_rule(s.rule).kind
-        if kind == "unary":
-            if a == s.object:
-                rules.append(s)
+        u = unit_of[b.object]
+        if b.rule.target == "none":
+            if u == b.object:
+                out.append(b)
             continue
-        b = unit_of.get(s.target or "", _FREE + s.target if s.target in variants else None)
-        if b is None or a == b or not relations or (s.rule, a, b) in seen:
+        v = unit_of.get(b.target or "", _FREE + b.target if b.target in variants else None)
+        if v is None or u == v or not relations or (b.rule.name, u, v) in seen:
             continue
-        seen.add((s.rule, a, b))
-        rules.append(RuleSpec.model_construct(rule=s.rule, object=a, target=b, params=s.params,
-                                              weight=s.weight))
-    units = [o.id for o in objs]
-    sub = Plan.model_construct(name=plan.name, description="", room=plan.room, objects=objs,
-                               rules=rules, areas=[], weights=plan.weights)
-    return sub, units, unit_of
+        seen.add((b.rule.name, u, v))
+        out.append(Binding(b.index, b.rule, u, v, b.params, b.weight))
+    return units, sizes, out
 
 
 def assemble(
@@ -459,11 +467,10 @@ def assemble(
     steps : int
     converged : bool
     """
-    from forcelayout.initial import initial_poses
-
     cfg = solver or SolverConfig()
-    sub, units, _ = _unit_plan(plan, variants, relations)
-    model = ForceModel(sub, units, relations=relations)
+    cp = compile_plan(plan)
+    units, sizes, bindings = _units(cp, variants, relations)
+    model = ForceModel(cp, units, sizes=sizes, bindings=bindings, relations=relations)
     p0, y0 = initial_poses(model, rng)
     y0 = np.round(y0 / (np.pi / 2)) * (np.pi / 2)  # rectangles start square to the room
     p0 = _push_inside(model.room, p0, y0, model.size[:, :2] * 0.5)
@@ -487,7 +494,7 @@ def assemble(
             place[u] = (res.pos[row[u]], res.yaw[row[u]])
     for r, oid in enumerate(floor):
         pos[r], yaw[r] = place[oid]
-    full = ForceModel(plan, floor, relations=relations)
+    full = ForceModel(cp, floor, relations=relations)
     pos = _push_inside(full.room, pos, yaw, full.size[:, :2] * 0.5)
     polish = replace(cfg, max_steps=max(1, min(cfg.max_steps, settle_steps)))
     res2 = simulate(full, pos, yaw, polish, obstacles=doors)
@@ -575,9 +582,7 @@ _LIBRARIES: dict[tuple[str, int, int, bool], VariantLibrary] = {}
 
 
 def _library(plan: Plan, opts: Options) -> VariantLibrary:
-    v = int(getattr(opts, "variants", 6))
-    seed = int(getattr(opts, "variant_seed", 0))
-    relations = bool(getattr(opts, "relations", True))
+    v, seed, relations = int(opts.variants), int(opts.variant_seed), bool(opts.relations)
     key = (hashlib.sha1(plan.to_json(indent=None).encode()).hexdigest(), v, seed, relations)
     lib = _LIBRARIES.get(key)
     if lib is None:
@@ -605,6 +610,6 @@ def sample_floor(plan: Plan, rng: np.random.Generator, opts: Options
     lib = _library(plan, opts)
     t1 = time.perf_counter()
     poses, steps, conv = assemble(plan, lib.choose(rng), rng,
-                                  relations=bool(getattr(opts, "relations", True)),
+                                  relations=opts.relations,
                                   solver=opts.solver)
     return poses, steps, conv, {"variants": t1 - t0, "assembly": time.perf_counter() - t1}

@@ -2,40 +2,60 @@
 
 Paper §III-B-3: "to ensure diversity, parent objects are placed randomly,
 while child objects are placed near their parents to accelerate
-convergence". Here a *child* is the object of a binary rule that asks it to
-stay close to its target (``next_to``, ``in_front_of``, ``around``, ...);
-the target is its parent. Starting a nightstand beside its bed rather than
-across the room keeps it from settling against the wrong wall.
+convergence". How an object starts is what its rules declare in their
+:class:`~forcelayout.rules.StartHint`: a rule with ``parent`` set makes its
+target the object's parent (``next_to``, ``around``, ``in_front_of``, ...),
+``place`` says where to start (against a wall, in a corner, beside or in
+front of the parent, ...) and ``turn`` how to face. Starting a nightstand
+beside its bed rather than across the room keeps it from settling against
+the wrong wall. A plugin rule gets the same help by declaring a hint.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
 
 from forcelayout import geometry as geo
 from forcelayout.forces import ForceModel
+from forcelayout.layout import Layout, Pose
+from forcelayout.validate import check_layout
 
-__all__ = ["CLOSE_RULES", "parents", "initial_poses", "propose_poses"]
+__all__ = ["parents", "initial_poses", "propose_poses"]
 
-#: Binary rules whose object should start near its target, strongest bond first.
-CLOSE_RULES = ("next_to", "around", "in_front_of", "behind", "left_of", "right_of", "near",
-               "aligned_with", "facing")
+#: Start places beside the parent, where wall length is kept free next to it.
+_SIDE_PLACES = frozenset({"beside", "left", "right"})
+
+
+@dataclass
+class _Wants:
+    """What the rules of one object ask of its start (from their start hints)."""
+
+    places: set[str] = field(default_factory=set)
+    turns: set[str] = field(default_factory=set)
+    face: list[int] = field(default_factory=list)  # targets to turn towards
+    beside: list[int] = field(default_factory=list)  # targets to stand beside
+    related: set[int] = field(default_factory=set)  # every target row
+    below_wall_object: bool = False  # something hangs on the wall above this object
 
 
 def parents(model: ForceModel) -> np.ndarray:
     """The parent row of each simulated object (``-1`` for none), shape (N,).
 
-    Each object's parent is the target of its strongest close rule (order of
-    :data:`CLOSE_RULES`); bindings that would close a cycle are ignored.
+    Each object's parent is the target of the rule with the lowest
+    ``start.parent`` among its rules (:class:`~forcelayout.rules.StartHint`);
+    bindings that would close a cycle are ignored.
     """
     n = model.n
     parent = np.full(n, -1, dtype=int)
-    rank = np.full(n, len(CLOSE_RULES), dtype=int)
+    rank = np.full(n, np.iinfo(np.int64).max, dtype=np.int64)
     for g in model.groups:
-        if g.j is None or g.rule.name not in CLOSE_RULES:
+        hint = g.rule.start
+        if g.j is None or hint is None or hint.parent is None:
             continue
-        r = CLOSE_RULES.index(g.rule.name)
+        r = int(hint.parent)
         for i, j in zip(g.i.tolist(), g.j.tolist(), strict=True):
             if r >= rank[i] or _reaches(parent, j, i):
                 continue
@@ -77,16 +97,31 @@ def _order(parent: np.ndarray, area: np.ndarray) -> list[int]:
     return out + [r for r in range(n) if r not in seen]
 
 
-_SIDE_RULES = {"next_to", "left_of", "right_of"}
-
-
-def _rules_by_object(model: ForceModel) -> list[dict[str, list[int]]]:
-    """For each row: ``{rule name: [target rows or -1]}`` of its simulated bindings."""
-    out: list[dict[str, list[int]]] = [{} for _ in range(model.n)]
+def _wants(model: ForceModel) -> list[_Wants]:
+    """For each row: what its simulated bindings' start hints ask of its start."""
+    out = [_Wants() for _ in range(model.n)]
     for g in model.groups:
+        hint = g.rule.start
         js = g.j.tolist() if g.j is not None else [-1] * len(g.i)
         for i, j in zip(g.i.tolist(), js, strict=True):
-            out[i].setdefault(g.rule.name, []).append(j)
+            w = out[i]
+            if j >= 0:
+                w.related.add(j)
+            if hint is None:
+                continue
+            if hint.place is not None:
+                w.places.add(hint.place)
+            if hint.turn is not None:
+                w.turns.add(hint.turn)
+            if j >= 0 and hint.turn == "face_target":
+                w.face.append(j)
+            if j >= 0 and hint.place == "beside":
+                w.beside.append(j)
+    row = {oid: k for k, oid in enumerate(model.ids)}
+    for b in model.compiled.bindings:  # objects that something hangs on the wall above
+        if b.rule.start is not None and b.rule.start.clear_wall_above_target \
+                and b.target in row:
+            out[row[b.target]].below_wall_object = True
     return out
 
 
@@ -170,30 +205,31 @@ def _back_wall(room, p: np.ndarray, yaw: float, half: np.ndarray) -> int:
     return int(np.flatnonzero(ok)[np.argmin(np.abs(s[ok]))]) if ok.any() else -1
 
 
-def _child_candidates(room, rng, k, names, q, r, pos, yaw, half, radius, spread):
+def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius, spread):
     """Poses for object ``r`` around its parent ``q``, laid out as its rules ask."""
+    places, turns = wants.places, wants.turns
     fq = np.array([-np.sin(yaw[q]), np.cos(yaw[q])])
     rq = np.array([np.cos(yaw[q]), np.sin(yaw[q])])
     side = np.where(rng.random(k) < 0.5, -1.0, 1.0)
-    if "right_of" in names:
+    if "right" in places:
         side[:] = 1.0
-    elif "left_of" in names:
+    elif "left" in places:
         side[:] = -1.0
     gap = rng.uniform(0.02, 0.1, k)[:, None]
     same = np.full(k, yaw[q])
-    if names.keys() & {"in_front_of", "behind"}:
-        sign = -1.0 if "behind" in names else 1.0
+    if places & {"front", "back"}:
+        sign = -1.0 if "back" in places else 1.0
         dist = half[q, 1] + half[r, 1] + rng.uniform(0.1, 0.1 + spread, k)
         cand = pos[q] + sign * fq * dist[:, None] + rq * rng.normal(0.0, 0.15, (k, 1))
-        cyaw = _yaw_facing(pos[q] - cand) if "facing" in names else same
+        cyaw = _yaw_facing(pos[q] - cand) if "face_target" in turns else same
         return cand, cyaw
-    if names.keys() & _SIDE_RULES:
-        wall = _back_wall(room, pos[q], yaw[q], half[q]) if "at_wall" in names else -1
+    if places & _SIDE_PLACES:
+        wall = _back_wall(room, pos[q], yaw[q], half[q]) if "wall" in places else -1
         cand = pos[q] + rq * (side[:, None] * (half[q, 0] + half[r, 0] + gap))
         if wall >= 0:
             return _snap_to_wall(room, cand, half[r], np.full(k, wall))
         return cand, same
-    if "at_wall" in names and "facing" in names:  # across the room, on the wall it faces
+    if "wall" in places and "face_target" in turns:  # across the room, on the wall it faces
         span = float(np.hypot(*(room.bounds[2:] - room.bounds[:2])))
         cand = pos[q] + fq * rng.uniform(1.0, span, (k, 1)) + rq * rng.normal(0.0, 0.3, (k, 1))
         cand, cyaw = _snap_to_wall(room, cand, half[r])
@@ -201,35 +237,35 @@ def _child_candidates(room, rng, k, names, q, r, pos, yaw, half, radius, spread)
     ang = rng.uniform(-np.pi, np.pi, k)
     dist = radius[q] * 0.8 + radius[r] + rng.uniform(0.0, spread, k)
     cand = pos[q] + dist[:, None] * np.stack([np.cos(ang), np.sin(ang)], axis=1)
-    if "at_wall" in names:
+    if "wall" in places:
         return _snap_to_wall(room, cand, half[r])
-    if names.keys() & {"facing", "around"}:
+    if "face_target" in turns:
         return cand, _yaw_facing(pos[q] - cand)
-    if names.keys() & {"face_same_as", "aligned_with"}:
+    if "target_heading" in turns:
         return cand, same
     return cand, rng.uniform(-np.pi, np.pi, k)
 
 
-def _unmet(room, names, cand, fwd, rgt, half_r, pos, half, placed) -> np.ndarray:
-    """How many of an object's cheaply judged rules each candidate pose misses, shape (K,).
+def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r, pos, half, placed) -> np.ndarray:
+    """How many of an object's cheaply judged start hints each candidate pose misses, (K,).
 
-    Judged: ``facing`` (target within 25° of the front), ``near_window`` /
-    ``near_door`` (centre within 1.3 m of an opening), ``next_to``
-    (footprint roughly beside the target's) for targets already placed, and
-    for objects that something hangs ``above``: no window or door in the wall
-    above or close beside.
+    Judged: turning towards a target (within 25° of the front), standing
+    near a window or door (centre within 1.3 m of one) and standing beside a
+    target (footprint roughly beside the target's), for targets already
+    placed; and for objects that something hangs on the wall above: no
+    window or door in the wall above or close beside.
     """
     unmet = np.zeros(len(cand))
-    for j in names.get("facing", []):
+    for j in wants.face:
         if j in placed:
             d = pos[j] - cand
             cos = (d * fwd).sum(1) / np.maximum(np.sqrt((d * d).sum(1)), 1e-9)
             unmet += cos < np.cos(np.radians(25.0))
-    for rule, openings in (("near_window", room.windows), ("near_door", room.doors)):
-        if rule in names and len(openings):
+    for place, openings in (("window", room.windows), ("door", room.doors)):
+        if place in wants.places and len(openings):
             d = cand[:, None, :] - openings.centre[None]
             unmet += np.sqrt((d * d).sum(2)).min(1) > 1.3
-    for win in (room.windows, room.doors) if "_below_art" in names else ():
+    for win in (room.windows, room.doors) if wants.below_wall_object else ():
         if not len(win):  # keep the wall above it free of windows and doors
             continue
         d = cand[:, None, :] - win.centre[None]
@@ -238,7 +274,7 @@ def _unmet(room, names, cand, fwd, rgt, half_r, pos, half, placed) -> np.ndarray
         reach = win.width[None] * 0.5 + 0.3 + np.abs((rgt[:, None] * win.tangent[None]).sum(2)) \
             * half_r[0] + np.abs((fwd[:, None] * win.tangent[None]).sum(2)) * half_r[1]
         unmet += ((along < reach) & (off < half_r.max() + 0.3)).any(1)
-    for j in names.get("next_to", []):
+    for j in wants.beside:
         if j in placed:
             d = np.abs(cand - pos[j])
             ext = np.abs(rgt) * half_r[0] + np.abs(fwd) * half_r[1]
@@ -280,10 +316,15 @@ def initial_poses(
 
 
 def _passes_checks(model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> bool:
-    """Whether start poses already pass the deterministic checks (floor objects only)."""
-    from forcelayout.layout import Layout, Pose
-    from forcelayout.validate import check_layout
+    """Whether start poses already pass the deterministic checks (floor objects only).
 
+    Rows that are not objects of the plan (an area's rectangle) are not
+    judged here: their members are checked once the area is carried into the
+    room.
+    """
+    known = set(model.plan.ids)
+    if not all(oid in known for oid in model.ids):
+        return True
     poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
              for oid, p, y in zip(model.ids, pos, yaw, strict=True)}
     return check_layout(Layout(model.plan, poses)).ok
@@ -321,16 +362,12 @@ def propose_poses(
     half = model.size[:, :2] * 0.5
     radius = np.hypot(half[:, 0], half[:, 1])
     parent = parents(model)
-    rules = _rules_by_object(model)
-    row = {oid: k for k, oid in enumerate(model.ids)}
-    for spec in model.plan.rules:  # objects with a picture or shelf to hang above them
-        if spec.rule == "above" and spec.target in row:
-            rules[row[spec.target]]["_below_art"] = []
+    wants = _wants(model)
     order = _order(parent, model.size[:, 0] * model.size[:, 1])
     # wall length to keep free beside a parent for children standing beside it
     margin = np.zeros(n)
     for c in range(n):
-        if parent[c] >= 0 and "at_wall" in rules[c] and rules[c].keys() & _SIDE_RULES:
+        if parent[c] >= 0 and "wall" in wants[c].places and wants[c].places & _SIDE_PLACES:
             margin[parent[c]] = max(margin[parent[c]], model.size[c, 0] + 0.1)
     lo, hi = room.bounds[:2], room.bounds[2:]
     floor = room.shape
@@ -338,33 +375,32 @@ def propose_poses(
     dc, dr, df, dh = room.door_zones
     placed: list[int] = []
     for r in order:
-        names = rules[r]
+        w = wants[r]
+        places = w.places
         q = int(parent[r])
         cyaw = rng.uniform(-np.pi, np.pi, tries)
-        corner = _corner_candidates(room, rng, tries, half[r]) if "in_corner" in names else None
+        corner = _corner_candidates(room, rng, tries, half[r]) if "corner" in places else None
+        opening = (room.windows if "window" in places and len(room.windows) else
+                   room.doors if "door" in places and len(room.doors) else None)
         if corner is not None:
             cand, cyaw = corner
         elif q >= 0:
-            cand, cyaw = _child_candidates(room, rng, tries, names, q, r, pos, yaw, half,
+            cand, cyaw = _child_candidates(room, rng, tries, w, q, r, pos, yaw, half,
                                            radius, spread)
-        elif "at_wall" in names:
-            near = None
-            if "near_window" in names and len(room.windows):
-                near = room.windows.centre
-            elif "near_door" in names and len(room.doors):
-                near = room.doors.centre
+        elif "wall" in places:
+            near = opening.centre if opening is not None else None
             cand, cyaw = _wall_candidates(room, rng, tries, half[r], near, margin[r])
-        elif "near_window" in names and len(room.windows):
-            cand = room.windows.centre[rng.integers(0, len(room.windows), tries)] \
+        elif opening is not None:
+            cand = opening.centre[rng.integers(0, len(opening), tries)] \
                 + rng.normal(0.0, 0.6, (tries, 2))
-        elif "in_middle" in names:
+        elif "middle" in places:
             cand = room.centroid + rng.normal(0.0, 0.3, (tries, 2))
         else:
             cand = rng.uniform(lo, hi, (tries, 2))
         # fall-backs after the proposals: anywhere at a wall for objects that
         # belong at one, anywhere in the room for the rest
         extra = tries // 2
-        if "at_wall" in names:
+        if "wall" in places:
             more, more_yaw = _wall_candidates(room, rng, extra, half[r], None)
         else:
             more, more_yaw = rng.uniform(lo, hi, (extra, 2)), rng.uniform(-np.pi, np.pi, extra)
@@ -388,14 +424,13 @@ def propose_poses(
                                      np.stack([oc, os_], axis=1)[None],
                                      np.stack([-os_, oc], axis=1)[None], half[placed][None])
             # objects this one is related to may stand right beside it
-            related = {j for js in names.values() for j in js if j >= 0}
-            slack = np.array([0.045 if p in related else 0.0 for p in placed])
+            slack = np.array([0.045 if p in w.related else 0.0 for p in placed])
             clear = np.minimum(clear, (sep + slack[None, :]).min(axis=1))
         if len(dc):
             dsep = geo.obb_separation(dc[None] - cand[:, None], rgt[:, None], fwd[:, None],
                                       reserve[None, None], dr[None], df[None], dh[None])
             clear = np.minimum(clear, dsep.min(axis=1))
-        unmet = _unmet(room, names, cand, fwd, rgt, half[r], pos, half, set(placed))
+        unmet = _unmet(room, w, cand, fwd, rgt, half[r], pos, half, set(placed))
         score = np.where(inside, clear, -np.inf)
         # first candidate that is clear and meets the rules it can be judged by,
         # else the clear one meeting most, else the one with the most clearance

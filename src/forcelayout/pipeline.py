@@ -12,18 +12,17 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from forcelayout.forces import ForceModel
+from forcelayout.hierarchy import sample_floor, scene_graph
 from forcelayout.initial import initial_poses
 from forcelayout.layout import Pose
+from forcelayout.options import Options
 from forcelayout.plan import Plan
 from forcelayout.solver import simulate
-
-if TYPE_CHECKING:
-    from forcelayout.sampling import Options
+from forcelayout.surfaces import check_surfaces, place_surfaces
 
 __all__ = ["Placement", "realise", "prepare"]
 
@@ -67,9 +66,6 @@ def prepare(plan: Plan) -> None:
     """
     if _PREPARED.get(id(plan)) is plan:
         return
-    from forcelayout.hierarchy import scene_graph
-    from forcelayout.surfaces import check_surfaces
-
     check_surfaces(plan)
     scene_graph(plan)
     if len(_PREPARED) > 64:
@@ -79,7 +75,7 @@ def prepare(plan: Plan) -> None:
 
 def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options
                 ) -> tuple[dict[str, Pose], int, bool]:
-    model = ForceModel(plan, relations=getattr(opts, "relations", True))
+    model = ForceModel(plan, relations=opts.relations)
     pos0, yaw0 = initial_poses(model, rng)
     res = simulate(model, pos0, yaw0, opts.solver)
     poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
@@ -102,22 +98,18 @@ def realise(plan: Plan, rng: np.random.Generator, opts: Options) -> Placement:
     Placement
         Poses of all placed objects; ``missing`` names every object of the
         plan left without a pose, with the reason. ``stages`` holds seconds
-        per stage (``"floor"``, ``"on_top"``, ``"walls"``, ``"ceiling"``, and
+        per stage (``"floor"``, ``"tops"``, ``"walls"``, ``"ceiling"``, and
         on the hierarchical path ``"variants"`` and ``"assembly"``).
     """
-    from forcelayout.surfaces import place_surfaces
-
     prepare(plan)
     t0 = time.perf_counter()
     stages: dict[str, float] = {}
-    if getattr(opts, "hierarchy", False):
-        from forcelayout.hierarchy import sample_floor
-
+    if opts.hierarchy:
         floor, steps, converged, stages = sample_floor(plan, rng, opts)
     else:
         floor, steps, converged = _flat_floor(plan, rng, opts)
         stages["floor"] = time.perf_counter() - t0
-    surf = place_surfaces(plan, floor, rng, relations=getattr(opts, "relations", True),
+    surf = place_surfaces(plan, floor, rng, relations=opts.relations,
                           solver=opts.solver)
     stages.update(surf.stages)
     return Placement(surf.poses, steps + surf.steps, converged and surf.converged,

@@ -43,6 +43,7 @@ from pydantic import (
     model_validator,
 )
 
+from forcelayout import rules as registry
 from forcelayout.errors import PlanError, Problem
 
 __all__ = [
@@ -54,14 +55,10 @@ __all__ = [
     "AreaRule",
     "Area",
     "Plan",
-    "load_plan",
-    "SURFACE_RULES",
     "MAX_FLOOR_FILL",
     "PHYSICAL_TERMS",
 ]
 
-#: Rules that place an object off the floor (on a parent, a wall or the ceiling).
-SURFACE_RULES = frozenset({"on_top", "on_wall", "on_wall_mid", "above", "on_ceiling"})
 #: Names of the always-on terms whose strength ``Plan.weights`` may scale.
 PHYSICAL_TERMS = frozenset({"repulsion", "passage", "boundary", "alignment", "door"})
 #: Largest fraction of the floor the floor objects' footprints may cover.
@@ -213,15 +210,19 @@ class Plan(_Model):
         return [o.id for o in self.objects]
 
     def surface_of(self, object_id: str) -> str:
-        """Where an object rests: ``"floor"``, or the surface rule that places it."""
+        """Where an object rests: ``"floor"``, or the name of the rule that takes it off it.
+
+        A rule takes its object off the floor when its class declares a
+        ``surface`` other than ``"floor"`` (see :class:`forcelayout.rules.Rule`).
+        """
         for r in self.rules:
-            if r.object == object_id and r.rule in SURFACE_RULES:
+            if r.object == object_id and _off_floor(r.rule):
                 return r.rule
         return "floor"
 
     def floor_objects(self) -> list[SceneObject]:
-        """Objects that stand on the floor (no surface rule binds them)."""
-        off = {r.object for r in self.rules if r.rule in SURFACE_RULES}
+        """Objects that stand on the floor (no off-floor rule binds them)."""
+        off = {r.object for r in self.rules if _off_floor(r.rule)}
         return [o for o in self.objects if o.id not in off]
 
     # -- I/O --------------------------------------------------------------------
@@ -262,32 +263,6 @@ class Plan(_Model):
         return cls.model_json_schema()
 
 
-def load_plan(source: str | Path | dict[str, Any] | Plan) -> Plan:
-    """Load a plan from a path, JSON text, a dict, or return a Plan unchanged.
-
-    A bare name such as ``"bedroom"`` loads a bundled example plan
-    (see :func:`forcelayout.examples.list_plans`).
-    """
-    if isinstance(source, Plan):
-        return source
-    if isinstance(source, dict):
-        return Plan.from_dict(source)
-    text = str(source)
-    if isinstance(source, str) and text.lstrip().startswith("{"):
-        return Plan.from_json(text)
-    path = Path(text)
-    if path.exists():
-        return Plan.load(path)
-    from forcelayout import examples
-
-    if text in examples.list_plans():
-        return examples.load_example(text)
-    raise FileNotFoundError(
-        f"no plan file {text!r}; give a path to a plan JSON or one of the bundled "
-        f"plans {examples.list_plans()}"
-    )
-
-
 # -- validation ------------------------------------------------------------------
 
 
@@ -322,9 +297,12 @@ def _did_you_mean(name: str, options: list[str]) -> str:
     return f" Did you mean {close[0]!r}?" if close else ""
 
 
-def _semantic_problems(plan: Plan) -> Iterator[Problem]:
-    from forcelayout import rules as registry
+def _off_floor(name: str) -> bool:
+    """Whether the registered rule ``name`` places its object off the floor."""
+    return registry.is_registered(name) and registry.get_rule(name).surface != "floor"
 
+
+def _semantic_problems(plan: Plan) -> Iterator[Problem]:
     room = plan.room
     poly = room.shape
     # room polygon
@@ -358,7 +336,7 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
     sides = sorted({math.hypot(rx[1] - rx[0], ry[1] - ry[0]),
                     math.hypot(rx[2] - rx[1], ry[2] - ry[1])})
     short_side, long_side = sides[0], sides[-1]
-    off_floor = {r.object for r in plan.rules if r.rule in SURFACE_RULES}
+    off_floor = {r.object for r in plan.rules if _off_floor(r.rule)}
     floor_area = 0.0
     for k, o in enumerate(plan.objects):
         w, d, h = o.size
@@ -388,9 +366,11 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
         if r.object not in ids:
             yield Problem(f"{path}.object",
                           f"unknown object {r.object!r}.{_did_you_mean(r.object, ids)}")
-        needs_target = rule.kind == "binary" or r.rule in {"on_top", "above"}
-        if needs_target and r.target is None:
+        if rule.target == "required" and r.target is None:
             yield Problem(f"{path}.target", f"{r.rule!r} relates two objects; give a target id")
+        elif rule.target == "none" and r.target is not None:
+            yield Problem(f"{path}.target", f"{r.rule!r} takes no target (it relates "
+                          f"{r.object!r} to the room); remove 'target'")
         elif r.target is not None and r.target not in ids and r.target not in areas:
             yield Problem(f"{path}.target",
                           f"unknown object {r.target!r}.{_did_you_mean(r.target, ids)}")
@@ -416,24 +396,27 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
 def _surface_problems(plan: Plan) -> Iterator[Problem]:
     parents: dict[str, str] = {}
     placed: dict[str, int] = {}
+    rule_of = {r.rule: registry.get_rule(r.rule) for r in plan.rules
+               if registry.is_registered(r.rule)}
     for k, r in enumerate(plan.rules):
-        if r.rule not in SURFACE_RULES:
+        if r.rule not in rule_of or rule_of[r.rule].surface == "floor":
             continue
         if r.object in placed:
             yield Problem(f"rules[{k}] ({r.rule})", f"{r.object!r} is already placed off the floor "
                           f"by rules[{placed[r.object]}]; an object rests on one surface")
             continue
         placed[r.object] = k
-        if r.rule == "on_top" and r.target is not None:
+        if rule_of[r.rule].surface == "top" and r.target is not None:
             parents[r.object] = r.target
     ids = {o.id: o for o in plan.objects}
     for k, r in enumerate(plan.rules):
-        if r.rule == "on_top" and r.target in ids and r.object in ids:
+        if r.object in parents and placed.get(r.object) == k and r.target in ids \
+                and r.object in ids:
             cw, cd, _ = ids[r.object].size
             pw, pd, _ = ids[r.target].size
             if min(cw, cd) > min(pw, pd) + 1e-9 or max(cw, cd) > max(pw, pd) + 1e-9:
-                yield Problem(f"rules[{k}] (on_top)", f"{r.object!r} ({cw:g} x {cd:g} m) does not "
-                              f"fit on top of {r.target!r} ({pw:g} x {pd:g} m)")
+                yield Problem(f"rules[{k}] ({r.rule})", f"{r.object!r} ({cw:g} x {cd:g} m) does "
+                              f"not fit on top of {r.target!r} ({pw:g} x {pd:g} m)")
     # cycles in on_top
     for start in parents:
         seen = [start]
@@ -444,7 +427,8 @@ def _surface_problems(plan: Plan) -> Iterator[Problem]:
                 break
             if cur == start:
                 chain = " -> ".join([*seen, start])
-                yield Problem("rules", f"on_top cycle {chain}; an object cannot rest on itself")
+                yield Problem("rules", f"cycle of objects resting on each other {chain}; an "
+                              "object cannot rest on itself")
                 break
             seen.append(cur)
         if cur == start:

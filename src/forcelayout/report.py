@@ -6,9 +6,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from forcelayout import rules as registry
-from forcelayout.forces import binding_weight
-from forcelayout.rules.base import ParamArrays, State
+from forcelayout.bindings import compile_plan
+from forcelayout.rules.base import State
 
 if TYPE_CHECKING:
     from forcelayout.layout import Layout, RuleResult
@@ -35,25 +34,6 @@ def judge_rules(layout: Layout) -> list[RuleResult]:
     from forcelayout.layout import RuleResult
 
     plan = layout.plan
-    state = layout_state(layout)
-    row = {oid: k for k, oid in enumerate(state.ids)}
-    verdict: dict[int, bool | None] = {}
-    groups: dict[str, list[int]] = {}
-    for k, spec in enumerate(plan.rules):
-        rule = registry.get_rule(spec.rule)
-        placed = spec.object in row and (spec.target is None or spec.target in row)
-        if not placed or (rule.kind == "binary" and spec.target is None):
-            verdict[k] = None
-            continue
-        groups.setdefault(spec.rule, []).append(k)
-    for name, ks in groups.items():
-        rule = registry.get_rule(name)
-        specs = [plan.rules[k] for k in ks]
-        i = np.array([row[s.object] for s in specs], dtype=int)
-        j = (np.array([row[s.target] for s in specs], dtype=int)  # type: ignore[index]
-             if all(s.target is not None for s in specs) else None)
-        p = ParamArrays.from_models([rule.Params.model_validate(s.params) for s in specs],
-                                    np.array([binding_weight(plan, k, rule) for k in ks]))
-        ok = np.asarray(rule.satisfied(state, i, j, p), dtype=bool)
-        verdict.update(zip(ks, ok.tolist(), strict=True))
-    return [RuleResult(k, s.rule, s.object, s.target, verdict[k]) for k, s in enumerate(plan.rules)]
+    verdict = compile_plan(plan).judge(layout_state(layout))
+    return [RuleResult(k, s.rule, s.object, s.target, verdict.get(k))
+            for k, s in enumerate(plan.rules)]

@@ -14,58 +14,18 @@ from __future__ import annotations
 import time
 from collections.abc import Iterator
 from concurrent.futures import Executor
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from forcelayout.errors import PlanError
 from forcelayout.layout import Layout, SampleReport
-from forcelayout.plan import Plan, load_plan
-from forcelayout.solver import SolverConfig
+from forcelayout.options import Options
+from forcelayout.plan import Plan
+from forcelayout.sources import load_plan
 
 __all__ = ["Options", "Generation", "solve", "generate", "sample_seed"]
-
-
-@dataclass(frozen=True)
-class Options:
-    """How samples are made and judged (all keyword arguments of :func:`generate`).
-
-    Attributes
-    ----------
-    solver : SolverConfig
-        Simulation parameters (annealing rate, step cap, thresholds).
-    relations : bool
-        ``False`` zeroes object-object rules (the −Relations ablation).
-    decor : bool
-        ``False`` removes secondary (``decor``) objects (the −Decor ablation).
-    min_rule_satisfaction : float
-        A sample meeting a smaller fraction of its rules is rejected
-        (default 0.95: layouts that are valid *and* do what the plan says).
-    check : bool
-        Run the deterministic checks (collisions, inside the room, door
-        clearance, navigability, reachability) and reject failures.
-    check_kwargs : dict
-        Thresholds passed to :func:`forcelayout.validate.check_layout`.
-    hierarchy : bool
-        Place the floor by the hierarchical path (area variants assembled in
-        the room, see :mod:`forcelayout.hierarchy`) instead of one flat
-        simulation.
-    variants : int
-        Variants generated per functional area on the hierarchical path.
-    variant_seed : int
-        Seed of the variant library (shared by all samples of a run).
-    """
-
-    solver: SolverConfig = field(default_factory=SolverConfig)
-    relations: bool = True
-    decor: bool = True
-    min_rule_satisfaction: float = 0.95
-    check: bool = True
-    check_kwargs: dict[str, Any] = field(default_factory=dict)
-    hierarchy: bool = False
-    variants: int = 6
-    variant_seed: int = 0
 
 
 def sample_seed(seed: int, index: int) -> int:

@@ -27,71 +27,28 @@ from Box2D import b2ChainShape, b2PolygonShape, b2World
 
 from forcelayout.forces import ForceModel
 from forcelayout.geometry import RoomGeometry
+from forcelayout.options import SolverConfig
 
 __all__ = ["SolverConfig", "SimulationResult", "simulate", "temperature"]
 
 
-@dataclass(frozen=True)
-class SolverConfig:
-    """Parameters of the annealed simulation.
-
-    Attributes
-    ----------
-    k : float
-        Cooling rate of ``T(t) = 1 / (1 + k t)`` (paper: 0.02).
-    dt : float
-        Box2D time step, seconds.
-    mobility : float
-        Velocity per unit force, m/s per N (overdamped motion).
-    angular_mobility : float
-        Angular velocity per unit torque, rad/s per N·m.
-    max_speed : float
-        Speed cap, m/s.
-    max_turn : float
-        Angular speed cap, rad/s.
-    min_steps, max_steps : int
-        The loop runs at least ``min_steps`` and at most ``max_steps`` steps.
-    tol_pos : float
-        Convergence threshold on per-step displacement, metres.
-    tol_yaw : float
-        Convergence threshold on per-step rotation, radians.
-    patience : int
-        Consecutive quiet steps that mean convergence.
-    velocity_iterations, position_iterations : int
-        Box2D solver iterations.
-    semantic_interval : int
-        The rule forces are recomputed every this many steps and held in
-        between (multiple time stepping: the slow, soft semantic terms are
-        sampled less often than the stiff physical ones, which are computed
-        every step). 1 recomputes everything every step.
-    """
-
-    k: float = 0.02
-    dt: float = 1.0 / 30.0
-    mobility: float = 1.0
-    angular_mobility: float = 4.0
-    max_speed: float = 1.0
-    max_turn: float = 3.0
-    min_steps: int = 40
-    max_steps: int = 400
-    tol_pos: float = 2e-3
-    tol_yaw: float = 4e-3
-    patience: int = 8
-    velocity_iterations: int = 6
-    position_iterations: int = 3
-    semantic_interval: int = 2
-
-    def __post_init__(self) -> None:
-        if self.max_steps < 1 or self.min_steps < 0 or self.patience < 1:
-            raise ValueError("SolverConfig: max_steps >= 1, min_steps >= 0 and patience >= 1")
-        if not (self.k >= 0 and self.dt > 0 and self.mobility > 0):
-            raise ValueError("SolverConfig: k >= 0, dt > 0 and mobility > 0")
-        if self.semantic_interval < 1:
-            raise ValueError("SolverConfig: semantic_interval >= 1")
-
-
 def temperature(step: int | np.ndarray, k: float = 0.02) -> np.ndarray | float:
-    """Annealing temperature ``T(t) = 1 / (1 + k t)`` (paper eq. 4)."""
+    """Annealing temperature ``T(t) = 1 / (1 + k t)`` (paper eq. 4).
+
+    Parameters
+    ----------
+    step : int or ndarray
+        Simulation step ``t`` (0 at the start).
+    k : float
+        Cooling rate (paper: 0.02).
+
+    Returns
+    -------
+    float or ndarray
+        A float for a scalar step, else an array of the steps' shape.
+    """
+    if isinstance(step, int | float):
+        return 1.0 / (1.0 + k * step)
     return 1.0 / (1.0 + k * np.asarray(step, dtype=float))
 
 
@@ -189,8 +146,8 @@ def simulate(
     state = model.state(pos, yaw)
     for t in range(cfg.max_steps):
         if t % every == 0:
-            fs, ts = model.semantic(state, 1.0 / (1.0 + k * t))
-        fp, tp = model.physical(state)
+            fs, ts = model.net(state, temperature(t, k), annealed=True)
+        fp, tp = model.net(state, 1.0, annealed=False)
         f, tau = fs + fp, ts + tp
         if not all_moving:
             f, tau = f[mv], tau[mv]

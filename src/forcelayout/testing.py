@@ -72,12 +72,10 @@ FURNITURE: dict[str, tuple[float, float, float]] = {
     "dining_table": (1.4, 0.9, 0.75),
     "plant": (0.4, 0.4, 1.0),
 }
-#: Built-in unary rules drawn by :func:`plans`.
-UNARY_RULES = ("at_wall", "in_corner", "in_middle", "near_window", "near_door",
-               "away_from_door")
-#: Built-in binary rules drawn by :func:`plans`.
-BINARY_RULES = ("next_to", "near", "far_from", "facing", "face_same_as", "in_front_of",
-                "behind", "left_of", "right_of", "aligned_with", "around")
+#: Built-in floor rules without a target, drawn by :func:`plans` (from the registry).
+UNARY_RULES = tuple(registry.builtin_rules(target="none", surface="floor"))
+#: Built-in floor rules with a target, drawn by :func:`plans` (from the registry).
+BINARY_RULES = tuple(registry.builtin_rules(target="required", surface="floor"))
 
 
 def _st() -> Any:
@@ -449,9 +447,9 @@ def check_rule(
         For surface rules (they act on other planes; not checked here).
     """
     inst = _instance(rule)
-    if inst.kind not in ("unary", "binary"):
-        raise TypeError(f"check_rule() checks floor rules (unary, binary); {inst.name!r} is a "
-                        f"{inst.kind!r} rule")
+    if inst.surface != "floor":
+        raise TypeError(f"check_rule() checks floor rules; {inst.name!r} places its object on "
+                        f"a {inst.surface!r} surface")
     if n_states < 1 or steps < 0:
         raise ValueError("check_rule(): n_states >= 1 and steps >= 0")
     try:
@@ -462,7 +460,7 @@ def check_rule(
             "parameter a default, or pass params=") from e
     rng = np.random.default_rng(seed)
     n = 4
-    binary = inst.kind == "binary"
+    binary = inst.target == "required"
     i = np.array([0, 2]) if binary else np.arange(n)
     j = np.array([1, 3]) if binary else None
     ai, aj = (np.nonzero(~np.eye(n, dtype=bool)) if binary else (np.arange(n), None))

@@ -32,6 +32,7 @@ from typing import Any, TypeVar
 
 from pydantic import BaseModel
 
+from forcelayout import rules as registry
 from forcelayout.errors import PlanError
 from forcelayout.llm.client import (
     ChatClient,
@@ -422,13 +423,15 @@ class Planner:
             objects.append({**o, "area": area if area in area_names else None})
         rules = list(draft["rules"])
         n_rules = len(rules)
-        have = {(x["object"], x.get("target")) for x in rules if x["rule"] == "on_top"}
-        if "on_top" in kinds:
-            rules += [{"rule": "on_top", "object": e.object, "target": e.parent, "params": {}}
+        # the rule that rests an object on its parent's top, as the registry declares it
+        top = next((n for n in sorted(kinds) if registry.get_rule(n).surface == "top"), None)
+        have = {(x["object"], x.get("target")) for x in rules if x["rule"] == top}
+        if top is not None:
+            rules += [{"rule": top, "object": e.object, "target": e.parent, "params": {}}
                       for e in r.support if (e.object, e.parent) not in have]
         elif r.support:
-            raise _Problems(["support: the rule 'on_top' is not in the vocabulary; give no "
-                             "support bonds"])
+            raise _Problems(["support: no rule in the vocabulary rests an object on another's "
+                             "top; give no support bonds"])
         new = {**draft, "areas": areas, "objects": objects, "rules": rules}
         _validate(new, {"rules": (n_rules, "support"), "objects": (len(objects), "objects")})
         return new

@@ -59,6 +59,7 @@ __all__ = [
     "unregister",
     "get_rule",
     "available_rules",
+    "builtin_rules",
     "describe_rules",
     "ENTRY_POINT_GROUP",
 ]
@@ -284,6 +285,28 @@ def available_rules(pattern: str = "*") -> list[str]:
     """
     _load_entry_points()
     return sorted(n for n in _registry if fnmatch.fnmatchcase(n, pattern))
+
+
+def builtin_rules(*, target: TargetNeed | None = None, surface: Surface | None = None
+                  ) -> list[str]:
+    """Sorted names of the rules that ship with forcelayout, optionally filtered.
+
+    Parameters
+    ----------
+    target : {"none", "required", "optional"}, optional
+        Keep only rules whose class declares this ``target``.
+    surface : {"floor", "top", "wall", "ceiling"}, optional
+        Keep only rules whose class declares this ``surface``.
+    """
+    names = sorted(n for names in _BUILTIN.values() for n, _ in names)
+    out = []
+    for n in names:
+        cls = _resolve(n) if n in _registry else None
+        if cls is None:
+            continue
+        if (target is None or cls.target == target) and (surface is None or cls.surface == surface):
+            out.append(n)
+    return out
 
 
 def describe_rules(pattern: str = "*") -> list[RuleInfo]:

@@ -59,7 +59,7 @@ class StartHint:
         convex corner), ``"middle"`` (near the floor's centroid),
         ``"window"`` / ``"door"`` (near an opening; with ``"wall"``, on a
         wall near it). Relative to the target: ``"beside"`` (either side),
-        ``"left"``, ``"right"``, ``"front"``, ``"behind"``.
+        ``"left"``, ``"right"``, ``"front"``, ``"back"`` (its side of the target).
     turn : str, optional
         ``"face_target"`` turns the object's front towards its target;
         ``"target_heading"`` gives it the target's heading.
@@ -79,7 +79,7 @@ class StartHint:
 
     PLACES: ClassVar[frozenset[str]] = frozenset(
         {"wall", "corner", "middle", "window", "door", "beside", "left", "right", "front",
-         "behind"})
+         "back"})
     TURNS: ClassVar[frozenset[str]] = frozenset({"face_target", "target_heading"})
 
     def __post_init__(self) -> None:

@@ -282,7 +282,7 @@ class Behind(_Side):
     """
 
     _sign, _front = -1.0, True
-    start = StartHint(place="behind", parent=3)
+    start = StartHint(place="back", parent=3)
 
 
 class LeftOf(_Side):

@@ -1,0 +1,113 @@
+"""How samples are made and judged: :class:`Options` and the solver's :class:`SolverConfig`.
+
+Plain frozen dataclasses with no dependency on the engine, so every module
+(sampling, the pipeline, the hierarchy, the solver) reads its settings from
+here without importing the others.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+__all__ = ["Options", "SolverConfig"]
+
+
+@dataclass(frozen=True)
+class SolverConfig:
+    """Parameters of the annealed simulation.
+
+    Attributes
+    ----------
+    k : float
+        Cooling rate of ``T(t) = 1 / (1 + k t)`` (paper: 0.02).
+    dt : float
+        Box2D time step, seconds.
+    mobility : float
+        Velocity per unit force, m/s per N (overdamped motion).
+    angular_mobility : float
+        Angular velocity per unit torque, rad/s per N·m.
+    max_speed : float
+        Speed cap, m/s.
+    max_turn : float
+        Angular speed cap, rad/s.
+    min_steps, max_steps : int
+        The loop runs at least ``min_steps`` and at most ``max_steps`` steps.
+    tol_pos : float
+        Convergence threshold on per-step displacement, metres.
+    tol_yaw : float
+        Convergence threshold on per-step rotation, radians.
+    patience : int
+        Consecutive quiet steps that mean convergence.
+    velocity_iterations, position_iterations : int
+        Box2D solver iterations.
+    semantic_interval : int
+        The rule forces are recomputed every this many steps and held in
+        between (multiple time stepping: the slow, soft semantic terms are
+        sampled less often than the stiff physical ones, which are computed
+        every step). 1 recomputes everything every step.
+    """
+
+    k: float = 0.02
+    dt: float = 1.0 / 30.0
+    mobility: float = 1.0
+    angular_mobility: float = 4.0
+    max_speed: float = 1.0
+    max_turn: float = 3.0
+    min_steps: int = 40
+    max_steps: int = 400
+    tol_pos: float = 2e-3
+    tol_yaw: float = 4e-3
+    patience: int = 8
+    velocity_iterations: int = 6
+    position_iterations: int = 3
+    semantic_interval: int = 2
+
+    def __post_init__(self) -> None:
+        if self.max_steps < 1 or self.min_steps < 0 or self.patience < 1:
+            raise ValueError("SolverConfig: max_steps >= 1, min_steps >= 0 and patience >= 1")
+        if not (self.k >= 0 and self.dt > 0 and self.mobility > 0):
+            raise ValueError("SolverConfig: k >= 0, dt > 0 and mobility > 0")
+        if self.semantic_interval < 1:
+            raise ValueError("SolverConfig: semantic_interval >= 1")
+
+
+@dataclass(frozen=True)
+class Options:
+    """How samples are made and judged (all keyword arguments of :func:`generate`).
+
+    Attributes
+    ----------
+    solver : SolverConfig
+        Simulation parameters (annealing rate, step cap, thresholds).
+    relations : bool
+        ``False`` zeroes object-object rules (the −Relations ablation).
+    decor : bool
+        ``False`` removes secondary (``decor``) objects (the −Decor ablation).
+    min_rule_satisfaction : float
+        A sample meeting a smaller fraction of its rules is rejected
+        (default 0.95: layouts that are valid *and* do what the plan says).
+    check : bool
+        Run the deterministic checks (collisions, inside the room, door
+        clearance, navigability, reachability) and reject failures.
+    check_kwargs : dict
+        Thresholds passed to :func:`forcelayout.validate.check_layout`.
+    hierarchy : bool
+        Place the floor by the hierarchical path (area variants assembled in
+        the room, see :mod:`forcelayout.hierarchy`) instead of one flat
+        simulation.
+    variants : int
+        Variants generated per functional area on the hierarchical path.
+    variant_seed : int
+        Seed of the variant library (shared by all samples of a run).
+    """
+
+    solver: SolverConfig = field(default_factory=SolverConfig)
+    relations: bool = True
+    decor: bool = True
+    min_rule_satisfaction: float = 0.95
+    check: bool = True
+    check_kwargs: dict[str, Any] = field(default_factory=dict)
+    hierarchy: bool = False
+    variants: int = 6
+    variant_seed: int = 0

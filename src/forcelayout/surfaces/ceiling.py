@@ -1,0 +1,72 @@
+"""Objects on the ceiling: the floor polygon seen from below, one 2D simulation.
+
+Each ceiling object is pulled to the room's centroid, its target object's
+centre or a functional area's centre (a ``centred`` param, default true),
+else starts at a random point under the ceiling.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from forcelayout.bindings import CompiledPlan
+from forcelayout.forces import ForceModel
+from forcelayout.geometry import RoomGeometry, box_corners
+from forcelayout.layout import Pose
+from forcelayout.options import SolverConfig
+from forcelayout.solver import simulate
+from forcelayout.surfaces.plane import AnchorTerm, SurfacePlacement, plane_solver
+
+__all__ = ["place_on_ceiling"]
+
+
+def place_on_ceiling(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Generator,
+                     relations: bool, cfg: SolverConfig, out: SurfacePlacement) -> None:
+    """Place every object that hangs from the ceiling."""
+    specs = cp.on("ceiling")
+    if not specs:
+        return
+    plan = cp.plan
+    room = cp.room
+    plane = RoomGeometry(room.polygon, height=1.0)
+    H = plan.room.height
+    areas = {a.name for a in plan.areas}
+    ids, anchor, stiff = [], [], []
+    for b in specs:
+        centred = bool(getattr(b.params, "centred", True))
+        centre = room.centroid
+        if b.target in areas:
+            members = [o.id for o in plan.objects if o.area == b.target and o.id in poses
+                       and poses[o.id].surface == "floor"]
+            if members:
+                centre = np.mean([[poses[m].x, poses[m].y] for m in members], axis=0)
+        elif b.target is not None:
+            if b.target not in poses:
+                out.missing.append(f"{b.object}: its target {b.target!r} was not placed")
+                continue
+            centre = np.array([poses[b.target].x, poses[b.target].y])
+        if not centred:
+            lo, hi = room.bounds[:2], room.bounds[2:]
+            for _ in range(50):
+                centre = rng.uniform(lo, hi)
+                if room.contains(centre):
+                    break
+        ids.append(b.object)
+        anchor.append(centre)
+        stiff.append([1.0, 1.0] if centred else [0.0, 0.0])
+    if not ids:
+        return
+    size = cp.size(ids)
+    pos = np.array(anchor) + rng.normal(0.0, 0.02, (len(ids), 2))
+    model = ForceModel(cp, ids, bindings=(), room=plane, relations=relations,
+                       terms=[AnchorTerm(np.array(anchor), np.array(stiff))])
+    res = simulate(model, pos, np.zeros(len(ids)), plane_solver(cfg))
+    out.steps += res.steps
+    out.converged &= res.converged
+    inside = room.contains(box_corners(res.pos, res.yaw, size[:, :2] * 0.5)).all(axis=1)
+    for k, o in enumerate(ids):
+        if not inside[k]:
+            out.missing.append(f"{o}: does not fit on the ceiling")
+            continue
+        poses[o] = Pose(float(res.pos[k, 0]), float(res.pos[k, 1]), float(res.yaw[k]),
+                        float(H - size[k, 2]), "ceiling")

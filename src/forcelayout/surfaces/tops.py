@@ -1,0 +1,126 @@
+"""Objects on a parent's top: a 2D simulation on the top, carried into the room.
+
+The top is a rectangle "room" of the parent's width x depth in the parent's
+frame; the children are simulated there with their rules between each other
+(a rule whose start hint is a wall or corner, such as ``at_wall``, means the
+top's edge), then carried to the room at ``z`` = parent's ``z`` + parent's
+height.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from forcelayout.bindings import Binding, CompiledPlan
+from forcelayout.forces import ForceModel
+from forcelayout.geometry import RoomGeometry, box_corners
+from forcelayout.layout import Pose
+from forcelayout.options import SolverConfig
+from forcelayout.rules.base import State
+from forcelayout.solver import simulate
+from forcelayout.surfaces.plane import SurfacePlacement, plane_solver, rect
+
+__all__ = ["place_on_tops"]
+
+#: Start hints of room rules that keep their meaning on a top (its edges are its walls).
+_EDGE_PLACES = frozenset({"wall", "corner"})
+
+
+def _top_bindings(cp: CompiledPlan, kids: set[str]) -> list[Binding]:
+    """Floor-rule bindings among the children of one top (plus edge rules)."""
+    out = []
+    for b in cp.bindings:
+        if b.object not in kids or b.rule.surface != "floor":
+            continue
+        if b.target in kids:
+            out.append(b)
+        elif b.target is None and b.rule.start is not None \
+                and b.rule.start.place in _EDGE_PLACES:
+            out.append(b)
+    return out
+
+
+def place_on_tops(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Generator,
+                  relations: bool, cfg: SolverConfig, out: SurfacePlacement) -> None:
+    """Place every object that rests on a parent's top, parents before their children."""
+    children: dict[str, list[str]] = {}
+    for b in cp.on("top"):
+        if b.target is not None:
+            children.setdefault(b.target, []).append(b.object)
+    done: set[str] = set()
+    for _ in range(len(children) + 1):  # parents in order: a parent must be placed first
+        ready = [p for p in children if p not in done and p in poses]
+        if not ready:
+            break
+        for parent in ready:
+            done.add(parent)
+            _top_plane(cp, parent, children[parent], poses, rng, relations, cfg, out)
+    for parent, kids in children.items():
+        if parent not in done:
+            out.missing.extend(f"{c}: its parent {parent!r} was not placed" for c in kids)
+
+
+def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, Pose],
+               rng: np.random.Generator, relations: bool, cfg: SolverConfig,
+               out: SurfacePlacement) -> None:
+    pw, pd, ph = cp.size([parent])[0]
+    room = RoomGeometry(rect(-pw / 2, -pd / 2, pw / 2, pd / 2), height=1.0)
+    size = cp.size(kids)
+    pos = np.zeros((len(kids), 2))
+    yaw = np.zeros(len(kids))
+    for r in range(len(kids)):
+        best, best_gap = None, -np.inf
+        for _ in range(12):
+            y = float(rng.integers(4)) * np.pi / 2
+            w, d = (size[r, 0], size[r, 1]) if int(round(y / (np.pi / 2))) % 2 == 0 \
+                else (size[r, 1], size[r, 0])
+            if w > pw + 1e-9 or d > pd + 1e-9:
+                continue
+            p = rng.uniform([-(pw - w) / 2, -(pd - d) / 2], [(pw - w) / 2, (pd - d) / 2])
+            gap = _min_gap(np.vstack([pos[:r], p]), np.append(yaw[:r], y), size[: r + 1],
+                           last_only=True)
+            if gap > best_gap:
+                best, best_gap = (p, y), gap
+            if gap > 0.01:
+                break
+        if best is None:
+            out.missing.append(f"{kids[r]}: does not fit on top of {parent!r} in any orientation")
+            return
+        pos[r], yaw[r] = best
+    model = ForceModel(cp, kids, bindings=_top_bindings(cp, set(kids)), room=room,
+                       relations=relations)
+    res = simulate(model, pos, yaw, plane_solver(cfg))
+    out.steps += res.steps
+    out.converged &= res.converged
+    fpos, fyaw = res.pos, res.yaw
+    if not _fits_rect(fpos, fyaw, size, pw, pd):
+        fpos, fyaw = pos, yaw
+    if not _fits_rect(fpos, fyaw, size, pw, pd):
+        out.missing.extend(f"{k}: no room for it on top of {parent!r} beside the other objects "
+                           "there" for k in kids)
+        return
+    P = poses[parent]
+    c, s = math.cos(P.yaw), math.sin(P.yaw)
+    z = P.z + ph
+    for k, (x, y), t in zip(kids, fpos.tolist(), fyaw.tolist(), strict=True):
+        a = (t + P.yaw + np.pi) % (2 * np.pi) - np.pi
+        poses[k] = Pose(P.x + c * x - s * y, P.y + s * x + c * y, float(a), float(z), parent)
+
+
+def _min_gap(pos: np.ndarray, yaw: np.ndarray, size: np.ndarray, *, last_only: bool = False
+             ) -> float:
+    """Smallest clearance between footprints (or from the last one to the others), metres."""
+    if len(pos) < 2:
+        return np.inf
+    st = State(pos, yaw, size, RoomGeometry(rect(-1, -1, 1, 1)))
+    m = st.separations.copy()
+    np.fill_diagonal(m, np.inf)
+    return float(m[-1].min() if last_only else m.min())
+
+
+def _fits_rect(pos: np.ndarray, yaw: np.ndarray, size: np.ndarray, w: float, d: float) -> bool:
+    c = box_corners(pos, yaw, size[:, :2] * 0.5)
+    inside = (np.abs(c[..., 0]) <= w / 2 + 1e-3).all() and (np.abs(c[..., 1]) <= d / 2 + 1e-3).all()
+    return bool(inside) and _min_gap(pos, yaw, size) >= -1e-3

@@ -1,0 +1,306 @@
+"""Objects on walls: each wall unfolded into a 2D plane and simulated.
+
+A wall is a rectangle of wall length x room height (``u`` along the wall from
+``polygon[i]``, ``v`` up from the floor). Doors, windows and the floor
+objects standing within ``reach`` metres of the wall (projected as
+``[u0, u1] x [0, top]`` zones) are static obstacles. Each wall object starts
+at a free spot of its height band and settles under an annealed pull to eye
+level; an object hung on a wall *above a target* (a wall rule with a target,
+such as ``above``) starts over the target's centre and is pulled there too.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from forcelayout.bindings import Binding, CompiledPlan
+from forcelayout.forces import ForceModel
+from forcelayout.geometry import RoomGeometry, box_corners
+from forcelayout.layout import Pose
+from forcelayout.options import SolverConfig
+from forcelayout.plan import Plan
+from forcelayout.solver import simulate
+from forcelayout.surfaces.plane import AnchorTerm, SurfacePlacement, plane_solver, rect
+
+__all__ = ["EYE_LEVEL", "wall_pose", "wall_band", "free_wall_stretches", "place_on_walls"]
+
+#: Eye level, metres: wall objects settle with their centre near this height.
+EYE_LEVEL = 1.6
+_MARGIN = 0.02
+
+Block = tuple[float, float, float, float]  # (u0, u1, v0, v1) metres
+
+
+def wall_pose(room: RoomGeometry, wall: int, u: float, z: float, depth: float) -> Pose:
+    """The pose of a wall object whose centre is ``u`` metres along wall ``wall``.
+
+    Parameters
+    ----------
+    room : RoomGeometry
+    wall : int
+        Wall index ``i`` (``polygon[i]`` -> ``polygon[i+1]``).
+    u : float
+        Distance of the object's centre from ``polygon[i]`` along the wall, m.
+    z : float
+        Height of the object's bottom edge, m.
+    depth : float
+        The object's depth off the wall, m (its footprint centre lies
+        ``depth / 2`` into the room).
+
+    Returns
+    -------
+    Pose
+        Back against the wall, front facing into the room, ``surface="wall:<i>"``.
+    """
+    n = room.normal[wall]
+    c = room.a[wall] + room.tangent[wall] * u + n * depth * 0.5
+    return Pose(float(c[0]), float(c[1]), float(math.atan2(-n[0], n[1])), float(z),
+                f"wall:{wall}")
+
+
+def wall_band(binding: Binding, room_height: float) -> tuple[float, float]:
+    """Lowest bottom and highest top (metres) a wall binding allows.
+
+    Read from the rule's ``low`` and ``high`` params where it has them
+    (``low`` 0, ``high`` the ceiling otherwise).
+    """
+    high = getattr(binding.params, "high", None)
+    high = room_height if high is None else min(float(high), room_height)
+    return float(getattr(binding.params, "low", 0.0)), high
+
+
+def target_clearance(binding: Binding) -> float:
+    """Smallest gap (metres) above the target of a wall binding (its ``clearance`` param)."""
+    return float(getattr(binding.params, "clearance", 0.0))
+
+
+def opening_blocks(plan: Plan, wall: int) -> list[Block]:
+    """Doors and windows of a wall as ``(u0, u1, v0, v1)`` zones, metres."""
+    out = []
+    for d in plan.room.doors:
+        if d.wall == wall:
+            out.append((d.offset - d.width / 2, d.offset + d.width / 2, 0.0, d.height))
+    for w in plan.room.windows:
+        if w.wall == wall:
+            out.append((w.offset - w.width / 2, w.offset + w.width / 2, w.sill, w.sill + w.height))
+    return out
+
+
+def _object_blocks(room: RoomGeometry, wall: int, corners: np.ndarray, tops: np.ndarray,
+                   reach: float) -> list[Block]:
+    """Objects within ``reach`` metres of a wall projected onto it as ``(u0, u1, 0, top)``."""
+    if len(corners) == 0:
+        return []
+    n, t = room.normal[wall], room.tangent[wall]
+    s = corners @ n - room.normal_offset[wall]  # (K, 4)
+    u = corners @ t - room.tangent_offset[wall]
+    near = s.min(axis=1) <= reach
+    u0 = np.clip(u.min(axis=1), 0.0, room.length[wall])
+    u1 = np.clip(u.max(axis=1), 0.0, room.length[wall])
+    keep = near & (u1 - u0 > 1e-3)
+    return [(float(a), float(b), 0.0, float(h))
+            for a, b, h in zip(u0[keep], u1[keep], tops[keep], strict=True)]
+
+
+def free_intervals(length: float, blocks: list[Block], v0: float, v1: float,
+                   margin: float = _MARGIN) -> list[tuple[float, float]]:
+    """Intervals of ``[0, length]`` not blocked by any zone overlapping heights ``(v0, v1)``."""
+    cuts = sorted((b[0] - margin, b[1] + margin) for b in blocks
+                  if b[2] < v1 - 1e-9 and b[3] > v0 + 1e-9)
+    out, start = [], 0.0
+    for a, b in cuts:
+        if a > start:
+            out.append((start, min(a, length)))
+        start = max(start, b)
+        if start >= length:
+            break
+    if start < length:
+        out.append((start, length))
+    return [(a, b) for a, b in out if b - a > 1e-9]
+
+
+def free_wall_stretches(plan: Plan, wall: int, low: float, high: float, height: float
+                        ) -> list[tuple[float, float]]:
+    """Stretches of a wall where an object ``height`` tall fits in the band, ignoring furniture.
+
+    A door or window blocks its stretch unless the object fits above or
+    below it inside ``[low, high]`` metres.
+
+    Returns
+    -------
+    list of (u0, u1)
+        Free stretches in metres from ``polygon[wall]``.
+    """
+    blocks = []
+    for u0, u1, v0, v1 in opening_blocks(plan, wall):
+        below = min(high, v0) - low >= height
+        above = high - max(low, v1) >= height
+        if not (below or above):
+            blocks.append((u0, u1, -1.0, math.inf))
+    return free_intervals(plan.room.wall_length(wall), blocks, 0.0, 1.0, margin=0.0)
+
+
+def corners_tops(cp: CompiledPlan, poses: dict[str, Pose], ids: list[str]
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Footprint corners (K, 4, 2) and top heights (K,) of placed objects."""
+    if not ids:
+        return np.zeros((0, 4, 2)), np.zeros(0)
+    size = cp.size(ids)
+    pos = np.array([[poses[i].x, poses[i].y] for i in ids])
+    yaw = np.array([poses[i].yaw for i in ids])
+    tops = np.array([poses[i].z for i in ids]) + size[:, 2]
+    return box_corners(pos, yaw, size[:, :2] * 0.5), tops
+
+
+def _target_walls(room: RoomGeometry, corners: np.ndarray) -> list[int]:
+    """The two walls nearest to a footprint, nearest first."""
+    d, _ = room.wall_distance(corners)  # (4, W)
+    return np.argsort(d.min(axis=0), kind="stable")[:2].tolist()
+
+
+def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Generator,
+                   relations: bool, cfg: SolverConfig, reach: float,
+                   out: SurfacePlacement) -> None:
+    """Place every object that hangs on a wall, one spot after the other, then settle."""
+    plan = cp.plan
+    room = cp.room
+    H = plan.room.height
+    specs = cp.on("wall")
+    if not specs:
+        return
+    ground = [i for i in poses if not poses[i].surface.startswith(("wall:", "ceiling"))]
+    corners, tops = corners_tops(cp, poses, ground)
+    blocks = {w: opening_blocks(plan, w) + _object_blocks(room, w, corners, tops, reach)
+              for w in range(room.n_walls)}
+    # initial spots, one object after the other (placed objects block the next)
+    placed: dict[int, list[tuple[Binding, float, float, np.ndarray]]] = {}
+    for b in specs:
+        oid = b.object
+        w, d, h = cp.size([oid])[0]
+        low, high = wall_band(b, H)
+        span: tuple[float, float] | None = None
+        walls: list[int]
+        if b.target is not None:
+            if b.target not in poses:
+                out.missing.append(f"{oid}: its target {b.target!r} was not placed")
+                continue
+            tc, tt = corners_tops(cp, poses, [b.target])
+            walls = _target_walls(room, tc[0])
+            low = max(low, float(tt[0]) + target_clearance(b))
+        else:
+            pinned = getattr(b.params, "wall", None)
+            walls = [int(pinned)] if pinned is not None else rng.permutation(room.n_walls).tolist()
+        spot = None
+        for wall in walls:
+            if b.target is not None:
+                u = tc[0] @ room.tangent[wall] - room.tangent_offset[wall]
+                span = (float(u.min()), float(u.max()))
+            spot = _wall_spot(room.length[wall], blocks[wall], w, h, low, high, span, rng)
+            if spot is not None:
+                u, v = spot
+                blocks[wall].append((u - w / 2, u + w / 2, v, v + h))
+                goal_u = u if span is None else 0.5 * (span[0] + span[1])
+                v_goal = float(np.clip(EYE_LEVEL, low + h / 2, high - h / 2))
+                stiff = np.array([0.0 if span is None else 1.0, 0.5])
+                placed.setdefault(wall, []).append((b, u, v, np.array([goal_u, v_goal, *stiff])))
+                break
+        if spot is None:
+            band = f"{low:.2f}..{high:.2f} m"
+            where = (f"walls {walls} near {b.target!r}" if b.target is not None
+                     else f"wall {walls[0]}" if len(walls) == 1 else "any wall")
+            out.missing.append(f"{oid}: no free stretch {w:g} m wide on {where} in the band "
+                               f"{band} (doors, windows and furniture block it)")
+    for wall, items in placed.items():
+        own = {(u - cp.size([b.object])[0, 0] / 2, u + cp.size([b.object])[0, 0] / 2, v,
+                v + cp.size([b.object])[0, 2]) for b, u, v, _ in items}
+        static = [blk for blk in blocks[wall] if blk not in own]
+        _wall_plane(cp, wall, items, static, relations, cfg, poses, out)
+
+
+def _wall_spot(length: float, blocks: list[Block], w: float, h: float, low: float,
+               high: float, span: tuple[float, float] | None, rng: np.random.Generator
+               ) -> tuple[float, float] | None:
+    """A free ``(u centre, v bottom)`` for a ``w x h`` object in the band, or None.
+
+    Heights are tried at eye level first, then just above or below each
+    obstacle, then the band's ends, then at random. With a ``span`` (the
+    target's extent along the wall) the object's centre stays inside it, as
+    close to the span's middle as the free stretch allows.
+    """
+    if high - low < h:
+        return None
+    pref = float(np.clip(EYE_LEVEL - h / 2, low, high - h))
+    edges = [b[3] for b in blocks] + [b[2] - h for b in blocks]
+    edges = sorted({float(e) for e in edges if low <= e <= high - h},
+                   key=lambda e: abs(e + h / 2 - EYE_LEVEL))
+    heights = [pref, *edges[:16], low, high - h, *rng.uniform(low, high - h, 4).tolist()]
+    for v in heights:
+        ranges = [(a + w / 2, b - w / 2) for a, b in free_intervals(length, blocks, v, v + h)
+                  if b - a >= w]
+        if span is not None:
+            ranges = [(max(a, span[0]), min(b, span[1])) for a, b in ranges]
+            ranges = [(a, b) for a, b in ranges if b >= a]
+        if not ranges:
+            continue
+        lens = np.array([b - a for a, b in ranges]) + 1e-6
+        k = int(rng.choice(len(ranges), p=lens / lens.sum()))
+        u = float(rng.uniform(*ranges[k]))
+        if span is not None:  # centred over the target where the free stretch allows
+            mid = 0.5 * (span[0] + span[1])
+            u = min((float(np.clip(mid, a, b)) for a, b in ranges), key=lambda x: abs(x - mid))
+        return u, float(v)
+    return None
+
+
+def _wall_plane(cp: CompiledPlan, wall: int,
+                items: list[tuple[Binding, float, float, np.ndarray]], static: list[Block],
+                relations: bool, cfg: SolverConfig, poses: dict[str, Pose],
+                out: SurfacePlacement) -> None:
+    room = cp.room
+    L, H = float(room.length[wall]), cp.plan.room.height
+    plane = RoomGeometry(rect(0.0, 0.0, L, H), height=1.0)
+    ids = [b.object for b, _, _, _ in items]
+    size = cp.size(ids)
+    pos = np.array([[u, v + size[k, 2] / 2] for k, (_, u, v, _) in enumerate(items)])
+    goal = np.array([g for _, _, _, g in items])
+    obstacles = [rect(max(a, 0.0), max(b0, 0.0), min(b, L), min(b1, H)) for a, b, b0, b1 in static
+                 if min(b, L) - max(a, 0.0) > 1e-3 and min(b1, H) - max(b0, 0.0) > 1e-3]
+    # on the plane an object's extent is its width along the wall and its height up it
+    sizes = {o: (s[0], s[2], s[1]) for o, s in zip(ids, size.tolist(), strict=True)}
+    model = ForceModel(cp, ids, sizes=sizes, bindings=(), room=plane, relations=relations,
+                       terms=[AnchorTerm(goal[:, :2], goal[:, 2:])])
+    res = simulate(model, pos, np.zeros(len(ids)), plane_solver(cfg), obstacles=obstacles)
+    out.steps += res.steps
+    out.converged &= res.converged
+    final = res.pos
+    bands = [wall_band(b, H) for b, _, _, _ in items]
+    if not _wall_ok(final, res.yaw, size, static, L, bands):
+        final = pos
+    for k, o in enumerate(ids):
+        u, vc = final[k]
+        poses[o] = wall_pose(room, wall, float(u), float(vc - size[k, 2] / 2), size[k, 1])
+
+
+def _wall_ok(pos: np.ndarray, yaw: np.ndarray, size: np.ndarray, static: list[Block],
+             length: float, bands: list[tuple[float, float]]) -> bool:
+    """Whether settled wall objects lie on the wall, in their bands, clear of all else."""
+    if np.abs(yaw).max() > 0.02 or not np.isfinite(pos).all():
+        return False
+    u0, u1 = pos[:, 0] - size[:, 0] / 2, pos[:, 0] + size[:, 0] / 2
+    v0, v1 = pos[:, 1] - size[:, 2] / 2, pos[:, 1] + size[:, 2] / 2
+    if (u0 < -1e-3).any() or (u1 > length + 1e-3).any():
+        return False
+    for k, (low, high) in enumerate(bands):
+        if v0[k] < low - 1e-3 or v1[k] > high + 1e-3:
+            return False
+        for a, b, c, d in static:
+            if u0[k] < b - 1e-3 and u1[k] > a + 1e-3 and v0[k] < d - 1e-3 and v1[k] > c + 1e-3:
+                return False
+    for a in range(len(pos)):
+        for b in range(a + 1, len(pos)):
+            if (u0[a] < u1[b] - 1e-3 and u1[a] > u0[b] + 1e-3 and v0[a] < v1[b] - 1e-3
+                    and v1[a] > v0[b] + 1e-3):
+                return False
+    return True

@@ -16,7 +16,8 @@ import numpy as np
 from pydantic import Field
 
 import forcelayout as fl
-from forcelayout.rules import ParamArrays, Rule, State, register
+from forcelayout.rules import ParamArrays, Rule, StartHint, State, register
+from forcelayout.rules.shaping import ramp, signed_angle, turn, unit
 from forcelayout.testing import check_rule
 
 
@@ -25,7 +26,8 @@ from forcelayout.testing import check_rule
 class LookOutWindow(Rule):
     """Near the nearest window and facing it: centre within ``distance`` m, within 30°."""
 
-    kind = "unary"  # relates an object to the room (binary rules also get a target j)
+    target = "none"  # relates an object to the room ("required": bindings name a target j)
+    start = StartHint(place="window")  # start poses put the object near a window
     weight = 1.5  # soft placement; physical repulsion stays the strongest term
 
     class Params(Rule.Params):
@@ -41,30 +43,25 @@ class LookOutWindow(Rule):
         v = d[np.arange(len(i)), k]
         return v, np.sqrt((v * v).sum(1))
 
-    @staticmethod
-    def _angle(state: State, i: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """Signed angle from the object's front to ``v``, radians CCW."""
-        f = state.front[i]
-        return np.arctan2(f[:, 0] * v[:, 1] - f[:, 1] * v[:, 0], (f * v).sum(1))
-
     def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         if len(state.room.windows) == 0:  # nothing to look at: no force
             return np.zeros((len(i), 2)), np.zeros(len(i))
         v, dist = self._window(state, i)
-        u = v / np.maximum(dist, 1e-9)[:, None]
-        # pull until a little inside `distance`, clipped so nothing explodes
-        pull = np.clip(4.0 * (dist - (p.distance - 0.1)), 0.0, 1.5)
-        # turn the front towards the window (CCW torque for a target on the left)
-        err = self._angle(state, i, v)
-        dead = 0.25 * np.radians(p.max_angle)
-        turn = np.sign(err) * np.maximum(np.abs(err) - dead, 0.0)
-        return u * (p.weight * pull)[:, None], p.weight * 2.5 * np.clip(turn, -1.5, 1.5)
+        u, _ = unit(v)
+        # pull until a little inside `distance`, linear and clipped so nothing explodes
+        pull = ramp(dist - (p.distance - 0.1))
+        # turn the front towards the window (CCW torque for a target on the left),
+        # leaving small errors alone
+        err = signed_angle(state.front[i], v)
+        torque = turn(err, 0.25 * np.radians(p.max_angle), p.weight)
+        return u * (p.weight * pull)[:, None], torque
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         if len(state.room.windows) == 0:
             return np.zeros(len(i), dtype=bool)
         v, dist = self._window(state, i)
-        return (dist <= p.distance) & (np.abs(self._angle(state, i, v)) <= np.radians(p.max_angle))
+        err = signed_angle(state.front[i], v)
+        return (dist <= p.distance) & (np.abs(err) <= np.radians(p.max_angle))
 
 
 # %% Check the rule keeps the contract: finite forces of the right shapes,

@@ -31,9 +31,18 @@ def _cmd_rules(args: argparse.Namespace) -> int:
     from forcelayout.rules import describe_rules
 
     infos = describe_rules(args.pattern)
+    if not infos:
+        print(f"forcelayout: no rule matches {args.pattern!r}; run `forcelayout rules` for the "
+              "whole vocabulary (patterns are shell-style, e.g. 'near*')", file=sys.stderr)
+        return 1
     if args.json:
-        print(json.dumps([{"name": i.name, "kind": i.kind, "summary": i.summary,
-                           "weight": i.weight, "params": i.params} for i in infos],
+        print(json.dumps([{"name": i.name, "kind": i.kind, "target": i.target,
+                           "surface": i.surface, "bond": i.bond, "hard": i.hard,
+                           "start": None if i.start is None else {
+                               "place": i.start.place, "turn": i.start.turn,
+                               "parent": i.start.parent},
+                           "summary": i.summary, "weight": i.weight, "params": i.params}
+                          for i in infos],
                          indent=2, default=str))
         return 0
     width = max((len(i.name) for i in infos), default=4)

@@ -40,6 +40,8 @@ ENTRY_DEPTH = 0.45
 #: Extra width, metres, on each side of that zone (so nothing stands flush with the swing).
 ENTRY_SIDE = 0.04
 
+
+
 _LOCAL_CORNERS = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
 
 
@@ -61,7 +63,7 @@ def right_vectors(yaw: np.ndarray) -> np.ndarray:
 
 
 def box_corners(pos: np.ndarray, yaw: np.ndarray, half: np.ndarray) -> np.ndarray:
-    """Corners of oriented rectangles.
+    """Corners of oriented rectangles (footprints): the one corner function of the library.
 
     Parameters
     ----------
@@ -77,10 +79,34 @@ def box_corners(pos: np.ndarray, yaw: np.ndarray, half: np.ndarray) -> np.ndarra
     ndarray, shape (N, 4, 2)
         Back-left, back-right, front-right, front-left corners (CCW).
     """
-    r = right_vectors(yaw)[:, None, :]
-    f = front_vectors(yaw)[:, None, :]
-    local = _LOCAL_CORNERS[None, :, :] * half[:, None, :]
-    return pos[:, None, :] + local[..., :1] * r + local[..., 1:] * f
+    return corners_from_axes(pos, right_vectors(yaw), front_vectors(yaw), half)
+
+
+def corners_from_axes(pos: np.ndarray, right: np.ndarray, front: np.ndarray,
+                      half: np.ndarray) -> np.ndarray:
+    """:func:`box_corners` from the rectangles' unit axes (when they are at hand).
+
+    Parameters
+    ----------
+    pos : ndarray, shape (N, 2)
+    right, front : ndarray, shape (N, 2)
+        Unit local +x and +y directions in the world.
+    half : ndarray, shape (N, 2)
+        Half width and half depth, metres.
+
+    Returns
+    -------
+    ndarray, shape (N, 4, 2)
+        Back-left, back-right, front-right, front-left corners (CCW).
+    """
+    r = right * half[:, 0:1]
+    f = front * half[:, 1:2]
+    c = np.empty((pos.shape[0], 4, 2))
+    c[:, 0] = pos - r - f
+    c[:, 1] = pos + r - f
+    c[:, 2] = pos + r + f
+    c[:, 3] = pos - r + f
+    return c
 
 
 def point_segment_distance(
@@ -382,6 +408,28 @@ class RoomGeometry:
     def area(self) -> float:
         """Floor area, square metres."""
         return abs(self.signed_area)
+
+    @cached_property
+    def convex_corners(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The room's convex vertices, computed once.
+
+        Returns
+        -------
+        k : ndarray of int, shape (K,)
+            Vertex indices; vertex ``k`` joins wall ``k - 1`` (ending there)
+            and wall ``k``.
+        points : ndarray, shape (K, 2)
+            Their positions, metres.
+        previous : ndarray of int, shape (K,)
+            The wall ending at each vertex (``k - 1`` modulo the wall count).
+        angle : ndarray, shape (K,)
+            Direction of wall ``k``, radians CCW.
+        """
+        t_prev = np.roll(self.tangent, 1, axis=0)
+        cross = t_prev[:, 0] * self.tangent[:, 1] - t_prev[:, 1] * self.tangent[:, 0]
+        k = np.flatnonzero(cross * np.sign(self.signed_area) > 1e-9)
+        return (k, self.polygon[k], (k - 1) % self.n_walls,
+                np.arctan2(self.tangent[k, 1], self.tangent[k, 0]))
 
     @cached_property
     def shape(self) -> shapely.Polygon:

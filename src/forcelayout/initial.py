@@ -182,9 +182,7 @@ def _corner_candidates(
     room, rng: np.random.Generator, k: int, half: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray] | None:
     """``k`` poses tucked into random convex corners, backs against one of the walls."""
-    t_prev = np.roll(room.tangent, 1, axis=0)
-    cross = t_prev[:, 0] * room.tangent[:, 1] - t_prev[:, 1] * room.tangent[:, 0]
-    convex = np.flatnonzero(cross * np.sign(room.signed_area) > 1e-9)
+    convex = room.convex_corners[0]
     if convex.size == 0:
         return None
     v = convex[rng.integers(0, convex.size, k)]

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from forcelayout.geometry import RoomGeometry
+from forcelayout.geometry import RoomGeometry, box_corners
 from forcelayout.plan import Plan
 
 if TYPE_CHECKING:
@@ -149,7 +149,9 @@ class Layout:
 
     def corners(self, object_id: str) -> np.ndarray:
         """Footprint corners of one object, shape (4, 2), CCW from back-left."""
-        return self.state([object_id]).corners[0]
+        p = self.poses[object_id]
+        half = 0.5 * np.array([self.plan.object(object_id).size[:2]], dtype=float)
+        return box_corners(np.array([[p.x, p.y]]), np.array([p.yaw]), half)[0]
 
     def gap(self, a: str, b: str) -> float:
         """Clearance between the footprints of objects ``a`` and ``b``, metres."""

@@ -64,13 +64,6 @@ def _colour_table(layout: Layout) -> dict[str, Any]:
     return {k: cmap((2 * i) % 20 + (i // 10) % 2) for i, k in enumerate(keys)}
 
 
-def _corners(layout: Layout, oid: str) -> np.ndarray:
-    p = layout.poses[oid]
-    size = layout.plan.object(oid).size
-    return box_corners(np.array([[p.x, p.y]]), np.array([p.yaw]),
-                       0.5 * np.array([size[:2]], dtype=float))[0]
-
-
 def _draw_room(ax: Axes, layout: Layout) -> None:
     from forcelayout.validate.occupancy import _solid_walls
 
@@ -121,7 +114,7 @@ def _draw_objects(ax: Axes, layout: Layout, labels: bool, failing: set[str]
         key = obj.area or obj.category
         colour = colours[key]
         used[key] = colour
-        c = _corners(layout, oid)
+        c = layout.corners(oid)
         edge = _FAIL if oid in failing else _WALL
         face = (*colour[:3], alpha) if alpha > 0 else "none"
         ax.add_patch(PolygonPatch(c, closed=True, facecolor=face, edgecolor=edge,

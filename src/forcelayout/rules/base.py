@@ -262,15 +262,8 @@ class State:
         """Footprint corners, shape (N, 4, 2), CCW from back-left."""
         c = self._cache.get("corners")
         if c is None:
-            h = self.half
-            r = self.right * h[:, 0:1]
-            f = self.front * h[:, 1:2]
-            c = np.empty((self.n, 4, 2))
-            c[:, 0] = self.pos - r - f
-            c[:, 1] = self.pos + r - f
-            c[:, 2] = self.pos + r + f
-            c[:, 3] = self.pos - r + f
-            self._cache["corners"] = c
+            c = self._cache["corners"] = geo.corners_from_axes(self.pos, self.right, self.front,
+                                                               self.half)
         return c
 
     def gap(self, i: np.ndarray, j: np.ndarray) -> np.ndarray:

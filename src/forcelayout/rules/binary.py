@@ -17,7 +17,7 @@ import numpy as np
 from pydantic import Field
 
 from forcelayout.rules.base import ParamArrays, Rule, StartHint, State
-from forcelayout.rules.unary import CAP, GAIN, _extent, _ramp, _signed_angle, _unit
+from forcelayout.rules.shaping import CAP, GAIN, extent, ramp, signed_angle, turn, unit
 
 __all__ = [
     "NextTo",
@@ -33,20 +33,9 @@ __all__ = [
     "Around",
 ]
 
-#: Torque per radian of heading error (times the binding weight), and its cap.
-TURN = 5.0
-TURN_CAP = 1.5
-
-
-def _turn(err: np.ndarray, dead: np.ndarray, w: np.ndarray) -> np.ndarray:
-    """Torque reducing heading error `err` (radians) beyond a dead band `dead`."""
-    e = np.sign(err) * np.maximum(np.abs(err) - dead, 0.0)
-    return (w * TURN) * np.minimum(np.maximum(e, -TURN_CAP), TURN_CAP)
-
-
 def _facing_error(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
     """Angle from each object's front to the direction of its target's centre, radians."""
-    return _signed_angle(state.front[i], state.pos[j] - state.pos[i])  # needs no unit vector
+    return signed_angle(state.front[i], state.pos[j] - state.pos[i])  # needs no unit vector
 
 
 def _gap_estimate(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
@@ -66,9 +55,9 @@ class _Distance(Rule):
     reaction = 0.2
 
     def _pull(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays, target):
-        u, _ = _unit(state.pos[j] - state.pos[i])
+        u, _ = unit(state.pos[j] - state.pos[i])
         gap = _gap_estimate(state, i, j)
-        return u * (p.weight * _ramp(gap - target))[:, None], np.zeros(len(i))
+        return u * (p.weight * ramp(gap - target))[:, None], np.zeros(len(i))
 
 
 class NextTo(_Distance):
@@ -120,7 +109,7 @@ class FarFrom(Rule):
         distance: float = Field(2.0, gt=0, description="Smallest footprint gap, m.")
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
-        u, _ = _unit(state.pos[i] - state.pos[j], fallback=True)
+        u, _ = unit(state.pos[i] - state.pos[j], fallback=True)
         target = p.distance + 0.1
         gap = _gap_estimate(state, i, j)  # a lower bound
         # an upper bound: the gap between the footprints' inscribed circles
@@ -131,7 +120,7 @@ class FarFrom(Rule):
         if unsure.any():  # refine with the exact gap only where the bounds disagree
             gap = gap.copy()
             gap[unsure] = state.gap(i[unsure], j[unsure])
-        return u * (p.weight * _ramp(target - gap))[:, None], np.zeros(len(i))
+        return u * (p.weight * ramp(target - gap))[:, None], np.zeros(len(i))
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         return state.gap(i, j) >= p.distance
@@ -164,8 +153,8 @@ class Facing(Rule):
         lat = (d * r).sum(1)
         ahead = (d * state.front[i]).sum(1)
         reach = np.maximum(ahead, 0.0) * np.tan(np.minimum(0.6 * half_cone, 1.4))
-        slide = np.where(ahead > 0, _ramp(np.abs(lat) - reach), 0.0) * np.sign(lat)
-        return r * (p.weight * slide)[:, None], _turn(err, 0.6 * half_cone, p.weight)
+        slide = np.where(ahead > 0, ramp(np.abs(lat) - reach), 0.0) * np.sign(lat)
+        return r * (p.weight * slide)[:, None], turn(err, 0.6 * half_cone, p.weight)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         return np.abs(_facing_error(state, i, j)) <= np.radians(p.max_angle)
@@ -187,11 +176,11 @@ class FaceSameAs(Rule):
 
     @staticmethod
     def _err(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
-        return _signed_angle(state.front[i], state.front[j])
+        return signed_angle(state.front[i], state.front[j])
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         dead = 0.25 * np.radians(p.max_angle)
-        return np.zeros((len(i), 2)), _turn(self._err(state, i, j), dead, p.weight)
+        return np.zeros((len(i), 2)), turn(self._err(state, i, j), dead, p.weight)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         return np.abs(self._err(state, i, j)) <= np.radians(p.max_angle)
@@ -234,23 +223,23 @@ class _Side(Rule):
         d = state.pos[i] - state.pos[j]
         a = (d * u).sum(1)  # ahead along the side's direction
         lat = (d * v).sum(1)
-        gap = a - hu - _extent(state, i, u)
+        gap = a - hu - extent(state, i, u)
         return u, v, hu, hv, a, lat, gap
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         u, v, hu, hv, a, lat, gap = self._coords(state, i, j)
         w = p.weight
-        ext_v = _extent(state, i, v)
+        ext_v = extent(state, i, v)
         on_side = a > hu
         # along u: closer than a little less than the allowed gap (contacts keep it off)
-        fu = -_ramp(gap - p.distance + np.minimum(0.1, 0.5 * p.distance))
+        fu = -ramp(gap - p.distance + np.minimum(0.1, 0.5 * p.distance))
         fu = np.where(on_side, fu, 0.5 * CAP)
         # along v: onto the centre line when on the side, else around the target
         band = hv + p.lateral
         band = band - np.minimum(0.1, 0.5 * band)
         sgn = np.where(lat >= 0.0, 1.0, -1.0)
-        inward = -sgn * _ramp(np.abs(lat) - band)
-        around = sgn * _ramp(hv + ext_v + 0.05 - np.abs(lat))
+        inward = -sgn * ramp(np.abs(lat) - band)
+        around = sgn * ramp(hv + ext_v + 0.05 - np.abs(lat))
         fv = np.where(on_side, inward, around)
         f = u * (w * fu)[:, None] + v * (w * fv)[:, None]
         return f, np.zeros(len(i))
@@ -344,9 +333,9 @@ class AlignedWith(Rule):
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         off, axis, err = self._geometry(state, i, j)
-        mag = _ramp(np.abs(off) - 0.5 * p.tolerance) * -np.sign(off)
+        mag = ramp(np.abs(off) - 0.5 * p.tolerance) * -np.sign(off)
         dead = 0.25 * np.radians(p.max_angle)
-        return axis * (p.weight * mag)[:, None], _turn(err, dead, p.weight)
+        return axis * (p.weight * mag)[:, None], turn(err, dead, p.weight)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         off, _, err = self._geometry(state, i, j)
@@ -375,9 +364,9 @@ class Around(Rule):
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         w = p.weight
-        u, _ = _unit(state.pos[j] - state.pos[i])  # towards the target
+        u, _ = unit(state.pos[j] - state.pos[i])  # towards the target
         gap = _gap_estimate(state, i, j)
-        f = u * (w * _ramp(gap - p.distance + np.minimum(0.1, 0.5 * p.distance)))[:, None]
+        f = u * (w * ramp(gap - p.distance + np.minimum(0.1, 0.5 * p.distance)))[:, None]
         b = len(i)
         if b > 1:  # spread: push apart the angular positions around a shared target
             theta = np.arctan2(-u[:, 1], -u[:, 0])
@@ -390,7 +379,7 @@ class Around(Rule):
             tang = np.stack([u[:, 1], -u[:, 0]], axis=1)  # CCW around the target
             f += tang * (w * np.clip(push.sum(1), -CAP / GAIN, CAP / GAIN) * GAIN * 0.5)[:, None]
         dead = 0.25 * np.radians(p.max_angle)
-        return f, _turn(_facing_error(state, i, j), dead, w)
+        return f, turn(_facing_error(state, i, j), dead, w)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         close = state.gap(i, j) <= p.distance

@@ -13,63 +13,13 @@ them); the object's front is its local +y.
 
 from __future__ import annotations
 
-import weakref
-
 import numpy as np
 from pydantic import Field
 
 from forcelayout.rules.base import ParamArrays, Rule, StartHint, State
+from forcelayout.rules.shaping import CAP, HARD_GAIN, TURN_HARD, extent, ramp, unit
 
 __all__ = ["AtWall", "InCorner", "InMiddle", "NearWindow", "NearDoor", "AwayFromDoor"]
-
-#: Force per metre of violation (times the binding weight), and its cap.
-GAIN = 4.0
-CAP = 1.5
-
-
-#: Steeper gain of the hard placement rules (at_wall, in_corner): they saturate within a
-#: few centimetres of their goal, so a soft pull (weight x CAP at most) cannot hold them
-#: off it.
-HARD_GAIN = 20.0
-#: Torque per radian of heading error of the hard placement rules (times the weight):
-#: stronger than the soft orientation rules' (facing: 5 x 1.5), so a soft torque cannot
-#: turn an object's back off its wall.
-TURN_HARD = 3.0
-
-
-def _ramp(excess: np.ndarray, gain: float = GAIN) -> np.ndarray:
-    """Clipped linear pull: 0 for `excess <= 0`, `gain * excess` up to `CAP`."""
-    return np.minimum(np.maximum(excess, 0.0) * gain, CAP)
-
-
-def _signed_angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Angle from unit vectors `a` to `b`, radians CCW in [-pi, pi]."""
-    cross = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
-    dot = (a * b).sum(-1)
-    return np.arctan2(cross, dot)
-
-
-def _extent(state: State, i: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """Half extent of footprints `i` along unit directions `u` (B, 2), metres."""
-    f, h = state.front[i], state.size[i]
-    fx, fy, ux, uy = f[:, 0], f[:, 1], u[:, 0], u[:, 1]
-    # right = (fy, -fx)
-    return (np.abs(fx * ux + fy * uy) * (0.5 * h[:, 1])
-            + np.abs(fy * ux - fx * uy) * (0.5 * h[:, 0]))
-
-
-def _unit(d: np.ndarray, fallback: bool = False) -> tuple[np.ndarray, np.ndarray]:
-    """Unit vectors of `d` (B, 2) and their lengths.
-
-    Zero vectors stay zero, or map to +x with ``fallback=True`` (for pushes
-    that need a direction even at a shared centre).
-    """
-    n = np.sqrt((d * d).sum(1))
-    u = d / np.maximum(n, 1e-9)[:, None]
-    if fallback:
-        u[n < 1e-9] = (1.0, 0.0)
-    return u, n
-
 
 def _wall_pull(state: State, i: np.ndarray, wall: np.ndarray, w: np.ndarray,
                inside: float = 0.005) -> np.ndarray:
@@ -82,27 +32,8 @@ def _wall_pull(state: State, i: np.ndarray, wall: np.ndarray, w: np.ndarray,
     room = state.room
     n = room.normal[wall]
     s = (state.pos[i] * n).sum(1) - room.normal_offset[wall]
-    gap = s - _extent(state, i, n)
-    return -n * (w * _ramp(gap + inside, HARD_GAIN))[:, None]
-
-
-_CORNERS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
-def _convex_corners(state: State) -> tuple[np.ndarray, np.ndarray]:
-    """Indices `k` of convex room vertices and their positions (K, 2), cached per room.
-
-    Vertex ``k`` joins wall ``k - 1`` (ending there) and wall ``k``.
-    """
-    room = state.room
-    hit = _CORNERS.get(room)
-    if hit is None:
-        t_prev = np.roll(room.tangent, 1, axis=0)
-        cross = t_prev[:, 0] * room.tangent[:, 1] - t_prev[:, 1] * room.tangent[:, 0]
-        k = np.flatnonzero(cross * np.sign(room.signed_area) > 1e-9)
-        hit = _CORNERS[room] = (k, room.polygon[k], (k - 1) % room.n_walls,
-                                np.arctan2(room.tangent[k, 1], room.tangent[k, 0]))
-    return hit
+    gap = s - extent(state, i, n)
+    return -n * (w * ramp(gap + inside, HARD_GAIN))[:, None]
 
 
 class AtWall(Rule):
@@ -145,7 +76,7 @@ class AtWall(Rule):
         # wall can still swing round instead of jamming at an angle
         err = np.arctan2(-rn, fn)
         settle = np.minimum(np.maximum(1.5 - 3.0 * np.abs(err), 0.2), 1.0)
-        force = n * (-w * settle * _ramp(gap + 0.005, HARD_GAIN))[:, None]
+        force = n * (-w * settle * ramp(gap + 0.005, HARD_GAIN))[:, None]
         # slide back along the wall if the footprint reaches beyond its ends
         along = (pos * t).sum(1) - room.tangent_offset[wall]
         half = np.abs(rn) * hd + np.abs(fn) * hw  # extent along the wall
@@ -185,7 +116,7 @@ class InCorner(Rule):
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         b = len(i)
-        k, vert, prev, angle = _convex_corners(state)
+        k, vert, prev, angle = state.room.convex_corners
         if len(k) == 0:
             return np.zeros((b, 2)), np.zeros(b)
         d = state.pos[i, None, :] - vert[None, :, :]
@@ -232,7 +163,7 @@ class InMiddle(Rule):
         d = state.pos[i] - room.centroid
         limit = p.fraction[:, None] * ext[None, :]
         limit = limit - np.minimum(0.1, 0.2 * limit)  # aim a little inside
-        f = -np.sign(d) * _ramp(np.abs(d) - limit) * p.weight[:, None]
+        f = -np.sign(d) * ramp(np.abs(d) - limit) * p.weight[:, None]
         return f, np.zeros(len(i))
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
@@ -269,9 +200,9 @@ class _NearOpening(Rule):
         if near is None:
             return np.zeros((b, 2)), np.zeros(b)
         centre, dist = near
-        u, _ = _unit(centre - state.pos[i])
+        u, _ = unit(centre - state.pos[i])
         target = p.distance - np.minimum(0.1, 0.25 * p.distance)
-        return u * (p.weight * _ramp(dist - target))[:, None], np.zeros(b)
+        return u * (p.weight * ramp(dist - target))[:, None], np.zeros(b)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         near = self._nearest(state, i)
@@ -326,9 +257,9 @@ class AwayFromDoor(Rule):
         away = d[np.arange(b), k]
         # at a door's centre itself, push straight into the room
         away = np.where((away * away).sum(1, keepdims=True) < 1e-12, doors.normal[k], away)
-        u, dist = _unit(away, fallback=True)
+        u, dist = unit(away, fallback=True)
         target = p.distance + 0.1
-        return u * (p.weight * _ramp(target - dist))[:, None], np.zeros(b)
+        return u * (p.weight * ramp(target - dist))[:, None], np.zeros(b)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         doors = state.room.doors

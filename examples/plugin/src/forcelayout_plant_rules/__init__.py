@@ -10,7 +10,8 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
-from forcelayout.rules import ParamArrays, Rule, State
+from forcelayout.rules import ParamArrays, Rule, StartHint, State
+from forcelayout.rules.shaping import ramp, unit
 
 __all__ = ["NearPlant"]
 
@@ -23,18 +24,19 @@ class NearPlant(Rule):
     ``distance`` and is zero from there on; the plant itself does not move.
     """
 
-    kind = "binary"
+    target = "required"  # every binding names the plant
+    start = StartHint(parent=6)  # start near the plant (a weak bond, like `near`)
+    relation = True  # counted by the relational diversity metric
     weight = 1.0  # a soft relation: weaker than at_wall (3.0) and physical repulsion
 
     class Params(Rule.Params):
         distance: float = Field(0.5, gt=0, description="Largest footprint gap to the plant, m.")
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
-        d = state.pos[j] - state.pos[i]  # (B, 2): every binding at once
-        u = d / np.maximum(np.sqrt((d * d).sum(1, keepdims=True)), 1e-9)
+        u, _ = unit(state.pos[j] - state.pos[i])  # (B, 2): every binding at once
         gap = state.separation(i, j)  # fast lower bound of the gap, metres
-        target = p.distance - np.minimum(0.1, 0.5 * p.distance)  # aim a little inside
-        pull = np.clip(4.0 * (gap - target), 0.0, 1.5)  # clipped: nothing explodes
+        goal = p.distance - np.minimum(0.1, 0.5 * p.distance)  # aim a little inside
+        pull = ramp(gap - goal)  # linear, clipped: nothing explodes
         return u * (p.weight * pull)[:, None], np.zeros(len(i))
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):

@@ -186,3 +186,52 @@ def test_random_json_never_crashes(data):
         Plan.from_dict(data if isinstance(data, dict) else {"objects": data})
     except PlanError as e:
         assert e.problems
+
+
+def with_object(extra: dict) -> dict:
+    data = plan_with()
+    data["objects"].append(extra)
+    return data
+
+
+@pytest.mark.parametrize("category", ["rug", "Rug", "area rug", "bath_mat", "DOORMAT", "runner",
+                                      "carpet", "yoga-mat", "rugs"])
+def test_floor_covers_are_walkable_by_default(category):
+    data = with_object({"id": "cover", "category": category, "size": [1.6, 1.2, 0.02]})
+    assert Plan.from_dict(data).object("cover").is_walkable
+    tall = with_object({"id": "cover", "category": category, "size": [1.6, 1.2, 0.3]})
+    assert Plan.from_dict(tall).object("cover").is_walkable  # by category, whatever its height
+
+
+@pytest.mark.parametrize("category", ["mattress", "format_shelf", "bed"])
+def test_other_categories_are_not_walkable(category):
+    data = with_object({"id": "thing", "category": category, "size": [0.5, 0.5, 0.4]})
+    assert not Plan.from_dict(data).object("thing").is_walkable
+
+
+def test_anything_at_most_5_cm_high_is_walkable_and_the_field_overrides_the_default():
+    flat = with_object({"id": "tile", "category": "play_tile", "size": [0.5, 0.5, 0.05]})
+    assert Plan.from_dict(flat).object("tile").is_walkable
+    raised = with_object({"id": "tile", "category": "play_tile", "size": [0.5, 0.5, 0.06]})
+    assert not Plan.from_dict(raised).object("tile").is_walkable
+    solid_rug = with_object({"id": "rug", "category": "rug", "size": [2, 1.4, 0.01],
+                             "walkable": False})
+    assert not Plan.from_dict(solid_rug).object("rug").is_walkable
+    stage = with_object({"id": "stage", "category": "platform", "size": [2, 1, 0.2],
+                         "walkable": True})
+    plan = Plan.from_dict(stage)
+    assert plan.object("stage").is_walkable
+    assert Plan.from_json(plan.to_json()).object("stage").walkable is True
+    assert Plan.from_dict(DESIGN_PLAN).object("bed").walkable is None
+
+
+def test_window_clearance_defaults_and_must_not_be_negative():
+    plan = Plan.from_dict(DESIGN_PLAN)
+    assert plan.room.windows[0].clearance == 0.5
+    data = plan_with(room__windows__0={"wall": 2, "offset": 2.0, "width": 1.2, "clearance": 0.0})
+    assert Plan.from_dict(data).room.windows[0].clearance == 0.0
+    bad = plan_with(room__windows__0={"wall": 2, "offset": 2.0, "width": 1.2, "clearance": -0.1})
+    with pytest.raises(PlanError, match=r"room\.windows\[0\]\.clearance"):
+        Plan.from_dict(bad)
+    schema = json.dumps(Plan.json_schema())
+    assert "clearance" in schema and "walkable" in schema

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated, Any
@@ -57,12 +58,18 @@ __all__ = [
     "Plan",
     "MAX_FLOOR_FILL",
     "PHYSICAL_TERMS",
+    "WALKABLE_CATEGORIES",
+    "WALKABLE_HEIGHT",
 ]
 
 #: Names of the always-on terms whose strength ``Plan.weights`` may scale.
 PHYSICAL_TERMS = frozenset({"repulsion", "passage", "boundary", "alignment", "door"})
 #: Largest fraction of the floor the floor objects' footprints may cover.
 MAX_FLOOR_FILL = 0.6
+#: Categories (or words of a category) that are walkable floor covers by default.
+WALKABLE_CATEGORIES = frozenset({"rug", "carpet", "mat", "doormat", "runner"})
+#: Objects at most this high (metres) are walkable floor covers by default.
+WALKABLE_HEIGHT = 0.05
 
 Metres = Annotated[float, Field(allow_inf_nan=False)]
 PositiveMetres = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -91,6 +98,9 @@ class Window(_Opening):
     width: PositiveMetres = Field(1.2, description="Window width along the wall, m.")
     sill: Metres = Field(0.9, ge=0, description="Height of the window's bottom edge, m.")
     height: PositiveMetres = Field(1.2, description="Window height, m.")
+    clearance: Metres = Field(0.5, ge=0, description=(
+        "Depth in metres of the zone in front of the window (window width x clearance, "
+        "inside the room) kept free of floor objects taller than the sill; 0 turns it off."))
 
 
 class Room(_Model):
@@ -128,6 +138,23 @@ class SceneObject(_Model):
     area: str | None = Field(None, description="Functional area this object belongs to.")
     primary: bool = Field(False, description="Primary objects must be reachable from a door.")
     decor: bool = Field(False, description="Secondary (decorative) item; dropped by no_decor.")
+    walkable: bool | None = Field(None, description=(
+        "A floor cover people walk on (rug, mat): no obstacle for collisions or navigation, "
+        "furniture may stand on it, it must still lie inside the room. None = the default: "
+        "true for the categories rug, carpet, mat, doormat and runner (any case, also as a "
+        "word of the category, e.g. 'bath_mat', 'area rug') and for objects at most 0.05 m "
+        "high; false otherwise."))
+
+    @property
+    def is_walkable(self) -> bool:
+        """Whether the object is a walkable floor cover (``walkable``, or its default)."""
+        if self.walkable is not None:
+            return self.walkable
+        if self.size[2] <= WALKABLE_HEIGHT + 1e-9:
+            return True
+        words = re.split(r"[^a-z0-9]+", self.category.lower())
+        return any(w in WALKABLE_CATEGORIES or (w.endswith("s") and w[:-1] in WALKABLE_CATEGORIES)
+                   for w in words)
 
 
 class RuleSpec(_Model):

@@ -127,15 +127,21 @@ class PassageTerm:
 
 
 class PhysicalTerm:
-    """The always-on terms (repulsion, boundary, alignment, door clearance); not annealed."""
+    """The always-on terms (repulsion, boundary, alignment, door clearance); not annealed.
+
+    Repulsion acts between the pairs ``(pi, pj)``; the door clearance pushes
+    the ``solid`` rows (walkable floor covers may lie in a door's swing).
+    """
 
     annealed = False
 
-    def __init__(self, pi: np.ndarray, pj: np.ndarray, weights: PhysicalWeights):
+    def __init__(self, pi: np.ndarray, pj: np.ndarray, weights: PhysicalWeights,
+                 solid: np.ndarray | None = None):
         self.pi, self.pj, self.weights = pi, pj, weights
+        self.solid = None if solid is None or solid.all() else solid.astype(float)
 
     def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
-        return physical(state, self.pi, self.pj, self.weights)
+        return physical(state, self.pi, self.pj, self.weights, self.solid)
 
 
 class ForceModel:
@@ -195,7 +201,15 @@ class ForceModel:
         self.groups = group_bindings(self.bindings, row)
         self.physical_weights = (physical_weights or PhysicalWeights()).scaled(self.plan.weights)
         n = len(self.ids)
-        self.pi, self.pj = (a.astype(int) for a in np.triu_indices(n, k=1))
+        objects = {o.id: o for o in self.plan.objects}
+        #: Walkable floor covers (rugs): no obstacle to furniture, walls hold them in.
+        #: (A thin object resting on a top or hanging on a wall is no cover.)
+        self.walkable = np.array([oid in objects and objects[oid].is_walkable
+                                  and self.compiled.surface_of(oid) is None
+                                  for oid in self.ids], dtype=bool)
+        pi, pj = (a.astype(int) for a in np.triu_indices(n, k=1))
+        solid = ~(self.walkable[pi] | self.walkable[pj])  # covers neither push nor are pushed
+        self.pi, self.pj = pi[solid], pj[solid]
         # pairs that a rule relates may stand close; others keep walking room apart
         related = np.zeros((n, n), dtype=bool)
         for g in self.groups:
@@ -206,7 +220,7 @@ class ForceModel:
         self.terms: list[ForceTerm] = [
             self.rules,
             PassageTerm(self.pi[free], self.pj[free], self.physical_weights),
-            PhysicalTerm(self.pi, self.pj, self.physical_weights),
+            PhysicalTerm(self.pi, self.pj, self.physical_weights, ~self.walkable),
         ]
         for t in terms:
             self.add_term(t)

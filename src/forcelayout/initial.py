@@ -215,6 +215,9 @@ def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius,
         side[:] = -1.0
     gap = rng.uniform(0.02, 0.1, k)[:, None]
     same = np.full(k, yaw[q])
+    if "under" in places:  # centred under the parent, square with it
+        cand = pos[q] + rng.normal(0.0, 0.05, (k, 2))
+        return cand, same
     if places & {"front", "back"}:
         sign = -1.0 if "back" in places else 1.0
         dist = half[q, 1] + half[r, 1] + rng.uniform(0.1, 0.1 + spread, k)
@@ -361,6 +364,7 @@ def propose_poses(
     radius = np.hypot(half[:, 0], half[:, 1])
     parent = parents(model)
     wants = _wants(model)
+    walkable = model.walkable
     order = _order(parent, model.size[:, 0] * model.size[:, 1])
     # wall length to keep free beside a parent for children standing beside it
     margin = np.zeros(n)
@@ -414,17 +418,19 @@ def propose_poses(
                            axis=1)
         inside = shapely.contains(floor, shapely.polygons(corners))
         clear = np.full(len(cand), 0.3)
-        if placed:
-            oy = yaw[placed]
+        # walkable covers are no obstacle: furniture stands on them, they lie under it
+        solid = [] if walkable[r] else [p for p in placed if not walkable[p]]
+        if solid:
+            oy = yaw[solid]
             oc, os_ = np.cos(oy), np.sin(oy)
-            sep = geo.obb_separation(pos[placed][None] - cand[:, None], rgt[:, None],
+            sep = geo.obb_separation(pos[solid][None] - cand[:, None], rgt[:, None],
                                      fwd[:, None], reserve[None, None],
                                      np.stack([oc, os_], axis=1)[None],
-                                     np.stack([-os_, oc], axis=1)[None], half[placed][None])
+                                     np.stack([-os_, oc], axis=1)[None], half[solid][None])
             # objects this one is related to may stand right beside it
-            slack = np.array([0.045 if p in w.related else 0.0 for p in placed])
+            slack = np.array([0.045 if p in w.related else 0.0 for p in solid])
             clear = np.minimum(clear, (sep + slack[None, :]).min(axis=1))
-        if len(dc):
+        if len(dc) and not walkable[r]:
             dsep = geo.obb_separation(dc[None] - cand[:, None], rgt[:, None], fwd[:, None],
                                       reserve[None, None], dr[None], df[None], dh[None])
             clear = np.minimum(clear, dsep.min(axis=1))

@@ -373,7 +373,7 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
         if h > room.height + 1e-9:
             yield Problem(f"objects[{k}].size", f"{o.id!r} is {h:g} m tall but the ceiling is at "
                           f"{room.height:g} m")
-        if o.id not in off_floor:
+        if o.id not in off_floor and not o.is_walkable:  # furniture stands on covers
             floor_area += w * d
     if floor_area > MAX_FLOOR_FILL * poly.area:
         yield Problem("objects", f"the floor objects cover {floor_area:.1f} m² of a "

@@ -73,14 +73,19 @@ class SimulationResult:
     converged: bool
 
 
+#: Box2D collision categories: the room's walls, furniture, walkable floor covers.
+_WALLS, _SOLID, _COVER = 0x0001, 0x0002, 0x0004
+
+
 def _world(room: RoomGeometry, obstacles: list[np.ndarray] | None = None) -> b2World:
     world = b2World(gravity=(0.0, 0.0), doSleep=False)
     walls = world.CreateStaticBody()
     verts = [tuple(map(float, v)) for v in room.polygon]
-    walls.CreateFixture(shape=b2ChainShape(vertices_loop=verts), friction=0.0)
+    walls.CreateFixture(shape=b2ChainShape(vertices_loop=verts), friction=0.0,
+                        categoryBits=_WALLS, maskBits=_SOLID | _COVER)
     for poly in obstacles or []:
         walls.CreateFixture(shape=b2PolygonShape(vertices=[tuple(map(float, v)) for v in poly]),
-                            friction=0.0)
+                            friction=0.0, categoryBits=_WALLS, maskBits=_SOLID)
     return world
 
 
@@ -126,12 +131,16 @@ def simulate(
         return SimulationResult(pos, yaw, 0, True)
     world = _world(model.room, obstacles)
     bodies = []
+    walkable = model.walkable
     for r in range(n):
         hw, hd = (float(v) for v in model.size[r, :2] * 0.5)
         kw = dict(position=(float(pos[r, 0]), float(pos[r, 1])), angle=float(yaw[r]),
                   fixedRotation=False, bullet=False)
         b = world.CreateStaticBody(**kw) if fixed[r] else world.CreateDynamicBody(**kw)
-        b.CreatePolygonFixture(box=(hw, hd), density=1.0, friction=0.0, restitution=0.0)
+        # walls collide with everything; furniture with furniture; covers with walls only
+        layer = _COVER if walkable[r] else _SOLID
+        b.CreatePolygonFixture(box=(hw, hd), density=1.0, friction=0.0, restitution=0.0,
+                               categoryBits=layer, maskBits=_WALLS | (0 if walkable[r] else _SOLID))
         bodies.append(b)
     moving = [b for b, f in zip(bodies, fixed, strict=True) if not f]
     mv = np.flatnonzero(~fixed)

@@ -94,6 +94,7 @@ _BUILTIN = {
         ("right_of", "RightOf"),
         ("aligned_with", "AlignedWith"),
         ("around", "Around"),
+        ("under", "Under"),
     ],
     "forcelayout.rules.surface": [
         ("on_top", "OnTop"),

@@ -59,7 +59,8 @@ class StartHint:
         convex corner), ``"middle"`` (near the floor's centroid),
         ``"window"`` / ``"door"`` (near an opening; with ``"wall"``, on a
         wall near it). Relative to the target: ``"beside"`` (either side),
-        ``"left"``, ``"right"``, ``"front"``, ``"back"`` (its side of the target).
+        ``"left"``, ``"right"``, ``"front"``, ``"back"`` (its side of the target),
+        ``"under"`` (centred under the target: a walkable cover).
     turn : str, optional
         ``"face_target"`` turns the object's front towards its target;
         ``"target_heading"`` gives it the target's heading.
@@ -79,7 +80,7 @@ class StartHint:
 
     PLACES: ClassVar[frozenset[str]] = frozenset(
         {"wall", "corner", "middle", "window", "door", "beside", "left", "right", "front",
-         "back"})
+         "back", "under"})
     TURNS: ClassVar[frozenset[str]] = frozenset({"face_target", "target_heading"})
 
     def __post_init__(self) -> None:

@@ -31,6 +31,7 @@ __all__ = [
     "RightOf",
     "AlignedWith",
     "Around",
+    "Under",
 ]
 
 def _facing_error(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
@@ -384,3 +385,50 @@ class Around(Rule):
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         close = state.gap(i, j) <= p.distance
         return close & (np.abs(_facing_error(state, i, j)) <= np.radians(p.max_angle))
+
+
+class Under(Rule):
+    """Lie under the target (a rug under the coffee table or the bed).
+
+    Satisfied when the target's centre lies inside the object's footprint,
+    at least ``margin`` metres from its edges, and the two are within
+    ``max_angle`` degrees of parallel (modulo 90°). Meant for walkable floor
+    covers (``walkable``; rugs, mats), on which furniture may stand. The
+    force pulls the object's centre under the target's and squares it with
+    the target; the target is not moved.
+    """
+
+    target = "required"
+    bond = True
+    relation = True
+    start = StartHint(place="under", turn="target_heading", parent=0)
+    weight = 2.0
+
+    class Params(Rule.Params):
+        margin: float = Field(0.0, ge=0,
+                              description="Smallest distance from the target's centre to the "
+                                          "object's edges, m.")
+        max_angle: float = Field(10.0, gt=0, le=45,
+                                 description="Largest angle between the axes (mod 90°), deg.")
+
+    @staticmethod
+    def _local(state: State, i: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        d = state.pos[j] - state.pos[i]
+        return (d * state.right[i]).sum(1), (d * state.front[i]).sum(1)
+
+    @staticmethod
+    def _heading_error(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+        rel = state.yaw[j] - state.yaw[i]
+        return np.arctan2(np.sin(4.0 * rel), np.cos(4.0 * rel)) / 4.0
+
+    def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        u, dist = unit(state.pos[j] - state.pos[i])
+        f = u * (p.weight * ramp(dist))[:, None]  # centred under the target
+        dead = 0.25 * np.radians(p.max_angle)
+        return f, turn(self._heading_error(state, i, j), dead, p.weight)
+
+    def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
+        x, y = self._local(state, i, j)
+        h = state.half[i]
+        inside = (np.abs(x) <= h[:, 0] - p.margin) & (np.abs(y) <= h[:, 1] - p.margin)
+        return inside & (np.abs(self._heading_error(state, i, j)) <= np.radians(p.max_angle))

@@ -185,13 +185,21 @@ def door_clearance(state: State, w: PhysicalWeights) -> tuple[np.ndarray, np.nda
 
 
 def physical(
-    state: State, pi: np.ndarray, pj: np.ndarray, w: PhysicalWeights
+    state: State, pi: np.ndarray, pj: np.ndarray, w: PhysicalWeights,
+    solid: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Sum of all always-on terms: repulsion, boundary, alignment, door clearance."""
+    """Sum of all always-on terms: repulsion, boundary, alignment, door clearance.
+
+    ``solid`` (N,) marks the rows the door clearance pushes (all by default);
+    walkable floor covers may lie in a door's swing.
+    """
     f = np.zeros((state.n, 2))
     tau = np.zeros(state.n)
+    fd, td = door_clearance(state, w)
+    if solid is not None:
+        fd = fd * solid[:, None]
     for fk, tk in (repulsion(state, pi, pj, w), boundary(state, w), alignment(state, w),
-                   door_clearance(state, w)):
+                   (fd, td)):
         f += fk
         tau += tk
     return f, tau

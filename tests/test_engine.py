@@ -218,7 +218,8 @@ def test_rules_written_for_the_first_release_keep_working():
 
 
 def test_an_entry_point_shadowing_a_registered_rule_warns(monkeypatch):
-    fake = EntryPoint(name="at_wall", value="someplugin.rules:AtWall", group=registry.ENTRY_POINT_GROUP)
+    fake = EntryPoint(name="at_wall", value="someplugin.rules:AtWall",
+                      group=registry.ENTRY_POINT_GROUP)
     monkeypatch.setattr(registry, "entry_points", lambda group: [fake])
     monkeypatch.setattr(registry, "_entry_points_loaded", False)
     with warnings.catch_warnings(record=True) as caught:

@@ -31,6 +31,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from forcelayout.access import access_term
 from forcelayout.bindings import Binding, CompiledPlan, RuleGroup, compile_plan, group_bindings
 from forcelayout.geometry import RoomGeometry
 from forcelayout.plan import Plan
@@ -222,6 +223,11 @@ class ForceModel:
             PassageTerm(self.pi[free], self.pj[free], self.physical_weights),
             PhysicalTerm(self.pi, self.pj, self.physical_weights, ~self.walkable),
         ]
+        if self.physical_weights.access > 0:  # free floor in front of wardrobes, desks, ...
+            acc = access_term(objects, self.ids, self.bindings, self.walkable, related)
+            if acc is not None:
+                acc.strength *= self.physical_weights.access
+                self.terms.append(acc)
         for t in terms:
             self.add_term(t)
 

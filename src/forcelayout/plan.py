@@ -31,7 +31,7 @@ import math
 import re
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import shapely
@@ -52,6 +52,7 @@ __all__ = [
     "Window",
     "Room",
     "SceneObject",
+    "ObjectAccess",
     "RuleSpec",
     "AreaRule",
     "Area",
@@ -63,7 +64,7 @@ __all__ = [
 ]
 
 #: Names of the always-on terms whose strength ``Plan.weights`` may scale.
-PHYSICAL_TERMS = frozenset({"repulsion", "passage", "boundary", "alignment", "door"})
+PHYSICAL_TERMS = frozenset({"repulsion", "passage", "boundary", "alignment", "door", "access"})
 #: Largest fraction of the floor the floor objects' footprints may cover.
 MAX_FLOOR_FILL = 0.6
 #: Categories (or words of a category) that are walkable floor covers by default.
@@ -125,6 +126,18 @@ class Room(_Model):
         return math.hypot(b[0] - a[0], b[1] - a[1])
 
 
+class ObjectAccess(_Model):
+    """Free floor a person needs beside an object to use it.
+
+    ``sides`` are sides of the footprint in the object's frame (``"front"``
+    is local +y); a person uses one of them (either long side of a bed).
+    """
+
+    sides: list[Literal["front", "back", "left", "right"]] = Field(
+        min_length=1, description="Sides that need free floor, e.g. ['front'].")
+    depth: PositiveMetres = Field(0.6, description="Depth of the free floor, m.")
+
+
 class SceneObject(_Model):
     """One object of the plan (furniture, decor, fixtures)."""
 
@@ -144,6 +157,10 @@ class SceneObject(_Model):
         "true for the categories rug, carpet, mat, doormat and runner (any case, also as a "
         "word of the category, e.g. 'bath_mat', 'area rug') and for objects at most 0.05 m "
         "high; false otherwise."))
+    access: ObjectAccess | Literal[False] | None = Field(None, description=(
+        "Free floor kept clear beside the object so a person can use it: None = the default "
+        "of its category (front of a wardrobe, desk, sofa, fridge; a long side of a bed; "
+        "see forcelayout.access), false = none."))
 
     @property
     def is_walkable(self) -> bool:

@@ -1,0 +1,191 @@
+"""Access zones: the free floor a person needs beside an object to use it.
+
+A wardrobe is opened from its front, a desk is sat at from its front, a bed
+is got into from a long side. Each such object has an **access zone** — a
+rectangle as wide as the side and ``depth`` metres deep in front of it — and
+:class:`AccessTerm`, an always-on force term of the floor simulation, pushes
+every other solid object out of it (sideways or further out, whichever is
+shorter), except objects a rule relates to the owner (the chair in front of
+the desk, the nightstand beside the bed) and walkable covers. An object with
+several sides (a bed's two long sides) needs one of them: the term keeps
+clear the side that is least obstructed at each step, a side facing a wall
+counting as obstructed.
+
+Where an object's access comes from, first match wins:
+
+1. the plan: ``SceneObject.access`` (``{"sides": [...], "depth": d}``, or
+   ``false`` for none);
+2. a rule bound to the object whose class declares ``access``
+   (:class:`forcelayout.rules.Access`);
+3. the object's category, by :data:`CATEGORY_ACCESS` (matched on the words
+   of the category, last word first: ``kitchen_counter`` is a counter).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+
+import numpy as np
+
+from forcelayout import geometry as geo
+from forcelayout.bindings import Binding
+from forcelayout.plan import SceneObject
+from forcelayout.rules.base import Access, State
+
+__all__ = ["CATEGORY_ACCESS", "access_of", "AccessTerm"]
+
+_FRONT = ("front",)
+_LONG_SIDES = ("left", "right")
+#: Default access by category word: which sides need free floor, and how deep (metres).
+CATEGORY_ACCESS: dict[str, Access] = {
+    **{w: Access(_LONG_SIDES, 0.5) for w in ("bed", "beds", "bunk", "crib", "cot")},
+    **{w: Access(_FRONT, 0.6) for w in (
+        "wardrobe", "closet", "armoire", "desk", "workbench", "counter", "countertop",
+        "worktop", "sink", "vanity", "dishwasher", "washer", "dryer", "laundry")},
+    **{w: Access(_FRONT, 0.7) for w in ("fridge", "refrigerator", "freezer", "stove", "oven",
+                                         "range", "cooktop", "hob")},
+    **{w: Access(_FRONT, 0.5) for w in (
+        "dresser", "drawers", "chest", "cabinet", "sideboard", "bookshelf", "bookcase",
+        "shelves", "shelving", "sofa", "couch", "loveseat", "sectional", "toilet", "piano",
+        "locker", "pantry", "hutch")},
+}
+
+_DIRS = {"front": (0.0, 1.0), "back": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
+
+
+def access_of(obj: SceneObject, bindings: Sequence[Binding] = ()) -> Access | None:
+    """The access an object needs: from the plan, its rules, or its category.
+
+    Parameters
+    ----------
+    obj : SceneObject
+    bindings : sequence of Binding
+        The bindings of the object (a rule that declares ``access`` counts).
+
+    Returns
+    -------
+    Access or None
+        ``None`` when the object needs no access zone.
+    """
+    if obj.access is False:
+        return None
+    if obj.access is not None:
+        return Access(tuple(obj.access.sides), float(obj.access.depth))
+    for b in bindings:
+        if b.object == obj.id and b.rule.access is not None:
+            return b.rule.access
+    for word in reversed(re.split(r"[^a-z0-9]+", obj.category.lower())):
+        if word in CATEGORY_ACCESS:
+            return CATEGORY_ACCESS[word]
+    return None
+
+
+class AccessTerm:
+    """Pushes solid objects out of the access zones of the others (always on).
+
+    Parameters
+    ----------
+    owner : ndarray of int, shape (Z,)
+        Row of the object each zone belongs to.
+    direction : ndarray, shape (Z, 2)
+        The zone's side in its owner's frame (``(0, 1)`` is the front).
+    depth : ndarray, shape (Z,)
+        Depth of each zone, metres.
+    exempt : ndarray of bool, shape (Z, N)
+        Rows a zone does not push (its owner, objects related to it, covers).
+    strength : float
+        Force per metre of intrusion (capped at ``1.5 * strength / 10``).
+    """
+
+    annealed = False
+
+    def __init__(self, owner: np.ndarray, direction: np.ndarray, depth: np.ndarray,
+                 exempt: np.ndarray, strength: float = 10.0):
+        self.owner = np.asarray(owner, dtype=int)
+        self.direction = np.asarray(direction, dtype=float).reshape(-1, 2)
+        self.depth = np.asarray(depth, dtype=float)
+        self.exempt = np.asarray(exempt, dtype=bool)
+        self.strength = float(strength)
+        # zones of one owner compete: only the least obstructed one is kept clear
+        self.multi = len(np.unique(self.owner)) < len(self.owner)
+
+    def zones(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Centres (Z, 2), outward axes (Z, 2), lateral axes (Z, 2), half sizes (Z, 2)."""
+        o = self.owner
+        lx, ly = self.direction[:, 0:1], self.direction[:, 1:2]
+        out = lx * state.right[o] + ly * state.front[o]
+        h = state.half[o]
+        along = np.abs(ly[:, 0]) * h[:, 1] + np.abs(lx[:, 0]) * h[:, 0]
+        wide = np.abs(ly[:, 0]) * h[:, 0] + np.abs(lx[:, 0]) * h[:, 1]
+        centre = state.pos[o] + out * (along + 0.5 * self.depth)[:, None]
+        lateral = np.stack([out[:, 1], -out[:, 0]], axis=1)
+        return centre, out, lateral, np.stack([wide, 0.5 * self.depth], axis=1)
+
+    def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
+        n = state.n
+        f = np.zeros((n, 2))
+        if not len(self.owner):
+            return f, np.zeros(n)
+        centre, out, lateral, half = self.zones(state)
+        sep = geo.obb_separation(state.pos[None, :, :] - centre[:, None, :], lateral[:, None],
+                                 out[:, None], half[:, None], state.right[None],
+                                 state.front[None], state.half[None])  # (Z, N)
+        pen = np.where(self.exempt, 0.0, np.maximum(0.02 - sep, 0.0))
+        active = pen > 0
+        if self.multi:
+            keep = self._least_obstructed(state, centre, out, lateral, half, pen)
+            active &= keep[:, None]
+        if not active.any():
+            return f, np.zeros(n)
+        z, b = np.nonzero(active)
+        d = state.pos[b] - centre[z]
+        a = (d * lateral[z]).sum(1)
+        ahead = (d * out[z]).sum(1)
+        ext_a = np.abs((state.right[b] * lateral[z]).sum(1)) * state.half[b, 0] \
+            + np.abs((state.front[b] * lateral[z]).sum(1)) * state.half[b, 1]
+        ext_o = np.abs((state.right[b] * out[z]).sum(1)) * state.half[b, 0] \
+            + np.abs((state.front[b] * out[z]).sum(1)) * state.half[b, 1]
+        pen_side = half[z, 0] + ext_a - np.abs(a)  # to leave sideways
+        pen_out = half[z, 1] + ext_o - ahead  # to leave through the far end
+        sideways = pen_side <= pen_out
+        mag = np.minimum(self.strength * pen[z, b], 0.15 * self.strength)
+        push = np.where(sideways[:, None], lateral[z] * np.where(a >= 0, 1.0, -1.0)[:, None],
+                        out[z]) * mag[:, None]
+        np.add.at(f, b, push)
+        return f, np.zeros(n)
+
+    def _least_obstructed(self, state, centre, out, lateral, half, pen) -> np.ndarray:
+        """For owners with several zones, keep the one with the least intrusion (walls too)."""
+        corners = geo.corners_from_axes(centre, lateral, out, half)  # (Z, 4, 2)
+        outside = (~state.room.contains(corners.reshape(-1, 2))).reshape(-1, 4).sum(1)
+        cost = pen.sum(1) + outside * 1.0
+        keep = np.zeros(len(self.owner), dtype=bool)
+        for o in np.unique(self.owner):
+            zs = np.flatnonzero(self.owner == o)
+            keep[zs[np.argmin(cost[zs])]] = True
+        return keep
+
+
+def access_term(plan_objects: dict[str, SceneObject], ids: Sequence[str],
+                bindings: Sequence[Binding], walkable: np.ndarray,
+                related: np.ndarray) -> AccessTerm | None:
+    """The access term of a simulation's rows, or ``None`` when no row needs access."""
+    owner, direction, depth = [], [], []
+    for r, oid in enumerate(ids):
+        obj = plan_objects.get(oid)
+        if obj is None or walkable[r]:
+            continue
+        acc = access_of(obj, [b for b in bindings if b.object == oid])
+        if acc is None:
+            continue
+        for side in acc.sides:
+            owner.append(r)
+            direction.append(_DIRS[side])
+            depth.append(acc.depth)
+    if not owner:
+        return None
+    own = np.array(owner, dtype=int)
+    exempt = related[own].copy() | walkable[None, :]
+    exempt[np.arange(len(own)), own] = True
+    return AccessTerm(own, np.array(direction), np.array(depth), exempt)

@@ -282,9 +282,10 @@ def feasibility(
                    f"of the floor free for a {r:g} m agent (need {min_free_fraction:.0%}); "
                    "remove objects or enlarge the room")
     elif free < min_free_fraction + _TIGHT_FREE_MARGIN:
+        hint = ("only layouts that group furniture pass" if free < min_free_fraction
+                else "little to spare")
         tight.append(f"standing apart the obstacles leave about {free:.0%} of the floor free "
-                     f"for a {r:g} m agent (need {min_free_fraction:.0%}); only layouts that "
-                     "group furniture pass")
+                     f"for a {r:g} m agent (need {min_free_fraction:.0%}); {hint}")
     if wall_demand > wall_available + 1e-9:
         bad.append(f"the wall-bound objects need {wall_demand:.2f} m of wall, the room has "
                    f"{wall_available:.2f} m without its doors")

@@ -45,6 +45,7 @@ PUBLIC_MODULES = (
     "forcelayout.hierarchy",
     "forcelayout.surfaces",
     "forcelayout.validate",
+    "forcelayout.diagnose",
     "forcelayout.render",
     "forcelayout.metrics",
     "forcelayout.testing",

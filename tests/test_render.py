@@ -10,6 +10,7 @@ from matplotlib.figure import Figure
 
 from forcelayout import Layout, Plan, Pose
 from forcelayout.render import draw_layout, draw_many, layout_svg
+from forcelayout.validate import check_layout
 
 PLAN = Plan.model_validate({
     "name": "studio",
@@ -108,3 +109,20 @@ def test_contact_sheet_titles_carry_the_checks_verdict():
     fig = draw_many([layout(), layout(chair=Pose(2.8, 0.5, 0.0))], cols=2)
     titles = [a.get_title() for a in fig.axes]
     assert titles[0].endswith("✓") and titles[1].endswith("✗")
+
+
+def test_walkable_covers_are_drawn_first_and_hatched():
+    data = PLAN.model_dump()
+    data["objects"].append({"id": "rug", "category": "rug", "size": [1.6, 1.2, 0.01]})
+    lay = Layout(Plan.model_validate(data), {**POSES, "rug": Pose(1.0, 2.4, 0.0)}, seed=3)
+    svg = layout_svg(lay)
+    ET.fromstring(svg)
+    assert svg.index('id="walkable:rug"') < svg.index('id="object:bed"')  # beneath the bed
+    assert 'id="object:rug"' not in svg
+    assert "rug (walkable)" in svg  # the legend says so
+    fig = draw_layout(lay)
+    (cover,) = [p for p in fig.axes[0].patches if p.get_gid() == "walkable:rug"]
+    bed = next(p for p in fig.axes[0].patches if p.get_gid() == "object:bed")
+    assert cover.get_hatch() == "//" and cover.get_facecolor()[3] < 0.5
+    assert cover.get_zorder() < bed.get_zorder()
+    assert check_layout(lay).ok  # the bed stands on the rug: no collision

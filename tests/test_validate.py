@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -10,7 +11,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from forcelayout import Layout, Plan, Pose
-from forcelayout.validate import CHECKS, CheckReport, check_layout, occupancy_mask
+from forcelayout.metrics import random_layout
+from forcelayout.testing import plans
+from forcelayout.validate import CHECKS, CheckReport, check_layout, occupancy_mask, window_zones
 
 SQUARE = [[0, 0], [4, 0], [4, 4], [0, 4]]
 DOOR = {"wall": 0, "offset": 2.5, "width": 0.9}  # swing square x 2.05..2.95, y 0..0.9
@@ -119,12 +122,15 @@ def test_object_in_a_door_square_blocks_the_door():
     assert of(off, "door") == []
 
 
-def test_crowded_room_is_not_navigable():
+def crowded() -> Layout:
     objects = [obj(f"stool_{k}", 0.3, 0.3) for k in range(25)]
     poses = {f"stool_{k}": Pose(0.5 + 0.75 * (k % 5), 0.5 + 0.75 * (k // 5), 0.0)
              for k in range(25)}
-    plan = make_plan(objects)
-    rep = check_layout(Layout(plan, poses))
+    return Layout(make_plan(objects), poses)
+
+
+def test_crowded_room_is_not_navigable():
+    rep = check_layout(crowded())
     assert rep.free_fraction < 0.3
     fails = of(rep, "navigable")
     assert len(fails) == 1
@@ -144,15 +150,21 @@ def walled_in(doors=(DOOR,)) -> Layout:
 def test_primary_object_walled_in_is_unreachable():
     rep = check_layout(walled_in())
     assert rep.unreachable == ["safe"]
-    assert of(rep, "reachable") == ["reachable: 'safe' cannot be reached from door 0"]
+    [line] = of(rep, "reachable")
+    assert line.startswith("reachable: 'safe' cannot be reached from door 0 (blocked by ")
+    # the cheapest way in crosses one of the two shelves, and the failure names it
+    assert len(rep.blocked_by["safe"]) == 1
+    assert rep.blocked_by["safe"][0] in {"shelf_a", "shelf_b"}
+    assert f"'{rep.blocked_by['safe'][0]}'" in line
     assert of(rep, "collision") == [] and of(rep, "door") == []
 
 
 def test_room_without_door_uses_largest_free_region():
     rep = check_layout(walled_in(doors=()))
     assert rep.unreachable == ["safe"]
-    assert of(rep, "reachable") == [
-        "reachable: 'safe' cannot be reached from the largest free region"]
+    [line] = of(rep, "reachable")
+    assert line.startswith("reachable: 'safe' cannot be reached from the largest free region "
+                           "(blocked by ")
     no_door = Layout(make_plan(BEDROOM_OBJECTS, doors=(), rules=BEDROOM_RULES), CLEAN)
     assert check_layout(no_door).ok
 
@@ -168,7 +180,9 @@ def test_every_door_must_reach_every_primary_object():
     objects = [obj("safe", 0.2, 0.2, primary=True), obj("shelf_a", 3.9, 0.2)]
     poses = {"safe": Pose(1.0, 0.5, 0.0), "shelf_a": Pose(2.0, 2.0, 0.0)}  # splits the room
     rep = check_layout(Layout(make_plan(objects, doors=[DOOR, second]), poses))
-    assert of(rep, "reachable") == ["reachable: 'safe' cannot be reached from door 1"]
+    assert of(rep, "reachable") == [
+        "reachable: 'safe' cannot be reached from door 1 (blocked by 'shelf_a')"]
+    assert rep.blocked_by == {"safe": ["shelf_a"]}
 
 
 def test_surface_objects_are_not_floor_obstacles():
@@ -222,7 +236,8 @@ def test_invalid_parameters_raise_with_the_name():
 
 def test_layout_check_method_and_check_names():
     assert bedroom().check().ok
-    assert set(CHECKS) == {"collision", "outside", "door", "surface", "navigable", "reachable"}
+    assert CHECKS == ("collision", "outside", "door", "window", "surface", "navigable",
+                      "reachable")
 
 
 def test_occupancy_mask_matches_the_free_cells():
@@ -262,3 +277,213 @@ def test_ceiling_object_poking_out_of_the_room():
     rep = check_layout(bedroom(light=Pose(3.9, 2.0, 0.0, 2.55, "ceiling")))
     fails = of(rep, "surface")
     assert len(fails) == 1 and "'light'" in fails[0] and "ceiling" in fails[0]
+
+
+# -- walkable floor covers -------------------------------------------------------------
+
+
+def kids_room(cover: dict | None = None, **changes: Pose) -> Layout:
+    """A 3 x 3 m kids' room with two beds and a rug between them, under both and a toy box."""
+    plan = Plan.model_validate({
+        "name": "kids_room",
+        "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]], "height": 2.6,
+                 "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}],
+                 "windows": [{"wall": 2, "offset": 1.5, "width": 1.0}]},
+        "objects": [
+            obj("bed_1", 0.8, 1.9, primary=True, h=0.5),
+            obj("bed_2", 0.8, 1.9, primary=True, h=0.5),
+            obj("desk", 0.9, 0.5, primary=True, h=0.75),
+            obj("chair", 0.4, 0.4, h=0.8),
+            obj("toy_box", 0.5, 0.35, h=0.5),
+            {"id": "rug", "category": "area rug", "size": [1.6, 0.9, 0.01], **(cover or {})},
+        ],
+    })
+    poses = {"bed_1": Pose(0.4, 2.05, 0.0), "bed_2": Pose(2.6, 2.05, 0.0),
+             "desk": Pose(2.55, 0.25, math.pi), "chair": Pose(2.55, 0.7, 0.0),
+             "toy_box": Pose(1.5, 2.8, math.pi),   # under the window, half on the rug
+             "rug": Pose(1.5, 2.3, 0.0)}           # 0.1 m under each bed
+    return Layout(plan, {**poses, **changes})
+
+
+def test_a_rug_under_furniture_is_no_obstacle():
+    lay = kids_room()
+    assert lay.plan.object("rug").is_walkable
+    rep = check_layout(lay)
+    assert rep.ok, rep.failures
+    mask, _ = occupancy_mask(lay)
+    without = Layout(lay.plan, {k: p for k, p in lay.poses.items() if k != "rug"})
+    assert (mask == occupancy_mask(without)[0]).all()
+    assert rep.free_fraction == check_layout(without).free_fraction
+
+
+def test_the_same_rug_marked_not_walkable_is_an_obstacle():
+    rep = check_layout(kids_room({"walkable": False}))
+    assert not rep.ok
+    assert {f.split(" overlap")[0] for f in of(rep, "collision")} == {
+        "collision: 'bed_1' and 'rug'", "collision: 'bed_2' and 'rug'",
+        "collision: 'toy_box' and 'rug'"}
+    assert rep.free_fraction < check_layout(kids_room()).free_fraction
+
+
+def test_walkable_covers_may_overlap_lie_in_a_door_swing_but_not_leave_the_room():
+    covers = [{"id": "rug", "category": "rug", "size": [2.0, 1.4, 0.01]},
+              {"id": "bath_mat", "category": "bath_mat", "size": [0.6, 0.4, 0.01]},
+              {"id": "doormat", "category": "doormat", "size": [0.8, 0.5, 0.02]}]
+    plan = make_plan([*BEDROOM_OBJECTS, *covers], rules=BEDROOM_RULES)
+    poses = {**CLEAN, "rug": Pose(1.5, 2.2, 0.0),      # under the bed's foot
+             "bath_mat": Pose(2.0, 1.6, 0.0),          # on the rug's edge
+             "doormat": Pose(2.5, 0.3, 0.0)}           # in the door's swing square
+    rep = check_layout(Layout(plan, poses))
+    assert rep.ok, rep.failures
+    out = check_layout(Layout(plan, {**poses, "doormat": Pose(2.5, 0.1, 0.0)}))
+    assert of(out, "outside") == ["outside: 'doormat' pokes 0.12 m² out of the room"]
+
+
+def test_a_walkable_primary_object_must_still_be_reachable():
+    rep = check_layout(kids_room({"primary": True}))
+    assert rep.ok, rep.failures
+    boxed = kids_room({"primary": True, "size": [0.6, 0.4, 0.01]}, rug=Pose(1.5, 2.8, 0.0),
+                      toy_box=Pose(1.5, 2.35, 0.0), bed_1=Pose(0.6, 2.05, 0.0),
+                      bed_2=Pose(2.4, 2.05, 0.0))
+    # the toy box and the beds close the strip under the window where the rug lies
+    rep = check_layout(boxed)
+    assert rep.unreachable == ["rug"]
+    assert rep.blocked_by["rug"] and "rug" not in rep.blocked_by["rug"]
+
+
+# -- free fraction as DESIGN.md defines it ---------------------------------------------
+
+
+def hallway() -> Layout:
+    """A 0.6 x 4 m hallway with a coat rack at its end: only the wall band takes room."""
+    plan = Plan.model_validate({
+        "name": "hallway",
+        "room": {"polygon": [[0, 0], [0.6, 0], [0.6, 4], [0, 4]],
+                 "doors": [{"wall": 0, "offset": 0.3, "width": 0.6}]},
+        "objects": [obj("coat_rack", 0.3, 0.3, primary=True, h=1.8)],
+    })
+    return Layout(plan, {"coat_rack": Pose(0.3, 3.8, math.pi)})
+
+
+def test_free_fraction_does_not_inflate_the_walls():
+    rep = check_layout(hallway())
+    assert rep.ok, rep.failures
+    assert rep.free_fraction > 0.8                       # floor minus the inflated coat rack
+    assert rep.navigable_fraction < 0.3                  # the wall band, reported only
+    assert 0.0 <= rep.navigable_fraction <= rep.free_fraction <= 1.0
+    assert "with the wall band" in str(rep)
+    banded = check_layout(hallway(), wall_band=True)
+    [line] = of(banded, "navigable")
+    assert "for the centre of an agent of radius 0.2 m" in line
+    assert banded.free_fraction == rep.free_fraction
+
+
+def test_reachability_keeps_the_wall_band():
+    # a 0.35 m wide hallway: the floor is free (nothing but walls) but no agent fits
+    plan = Plan.model_validate({
+        "name": "slot",
+        "room": {"polygon": [[0, 0], [0.35, 0], [0.35, 3], [0, 3]],
+                 "doors": [{"wall": 0, "offset": 0.175, "width": 0.35}]},
+        "objects": [obj("hook", 0.1, 0.1, primary=True, h=1.5)],
+    })
+    rep = check_layout(Layout(plan, {"hook": Pose(0.175, 2.9, 0.0)}))
+    assert rep.free_fraction > 0.8
+    assert rep.unreachable == ["hook"]
+    assert of(rep, "reachable") == [
+        "reachable: 'hook' cannot be reached from door 0 (the walls leave no way through)"]
+
+
+NUMBERS = re.compile(r"only ([0-9.]+)% of the floor .* \(need ([0-9.]+)%\)")
+
+
+@settings(max_examples=30, deadline=None)
+@given(margin=st.floats(1e-5, 0.02))
+def test_the_shown_free_fraction_is_visibly_below_the_threshold(margin):
+    lay = crowded()
+    free = check_layout(lay).free_fraction
+    need = min(1.0, free + margin)
+    [line] = of(check_layout(lay, min_free_fraction=need), "navigable")
+    shown, needed = map(float, NUMBERS.search(line).groups())
+    assert shown < needed
+    assert abs(shown - 100 * free) < 0.5 and abs(needed - 100 * need) < 1e-3
+
+
+def test_a_default_threshold_reads_30_percent():
+    lay = crowded()
+    free = check_layout(lay).free_fraction
+    [line] = of(check_layout(lay, min_free_fraction=round(free, 3) + 0.0005), "navigable")
+    assert "need " in line
+    rep = check_layout(lay)
+    assert "(need 30%)" in of(rep, "navigable")[0]
+
+
+# -- window clearance ---------------------------------------------------------------------
+
+
+def window_room(**poses: Pose) -> Layout:
+    # SQUARE's window: wall 2 (top, y = 4), centre x = 2, 1.2 m wide: zone x 1.4..2.6, y 3.5..4
+    objects = [obj("wardrobe", 1.2, 0.6, h=2.0), obj("bench", 1.0, 0.4, h=0.45)]
+    return Layout(make_plan(objects), {"wardrobe": Pose(3.7, 1.5, math.pi / 2),
+                                       "bench": Pose(0.5, 2.0, -math.pi / 2), **poses})
+
+
+def test_a_wardrobe_in_front_of_a_window_fails_and_a_low_bench_passes():
+    assert check_layout(window_room()).ok
+    rep = check_layout(window_room(wardrobe=Pose(2.0, 3.7, math.pi)))
+    assert of(rep, "window") == [
+        "window: 'wardrobe' (2.00 m tall) stands in front of window 0 (sill 0.90 m)"]
+    assert rep.failed("window") and not rep.failed("collision")
+    assert check_layout(window_room(bench=Pose(2.0, 3.8, math.pi))).ok
+    corner = check_layout(window_room(wardrobe=Pose(3.1, 3.7, math.pi)))  # 0.1 m into the zone
+    assert of(corner, "window")
+    off = check_layout(window_room(wardrobe=Pose(2.0, 3.7, math.pi)), window_clearance=False)
+    assert off.ok
+
+
+def test_window_zone_follows_clearance_and_sill():
+    lay = window_room(wardrobe=Pose(2.0, 3.0, math.pi))  # 0.7 m from the wall: y 2.7..3.3
+    assert check_layout(lay).ok
+    data = lay.plan.model_dump()
+    data["room"]["windows"][0]["clearance"] = 0.8
+    deep = Layout(Plan.model_validate(data), lay.poses)
+    assert of(check_layout(deep), "window")
+    data["room"]["windows"][0].update(clearance=0.5, sill=2.05, height=0.6)
+    high = Layout(Plan.model_validate(data), {**lay.poses, "wardrobe": Pose(2.0, 3.7, math.pi)})
+    assert check_layout(high).ok  # the wardrobe stays below a high window
+    data["room"]["windows"][0].update(clearance=0.0, sill=0.9, height=1.2)
+    none = Layout(Plan.model_validate(data), {**lay.poses, "wardrobe": Pose(2.0, 3.7, math.pi)})
+    assert check_layout(none).ok
+    centre, right, front, half, sill = window_zones(Plan.model_validate(data).room)
+    assert half.tolist() == [[0.6, 0.0]] and sill.tolist() == [0.9]
+
+
+def test_window_zones_geometry():
+    centre, right, front, half, sill = window_zones(window_room().plan.room)
+    np.testing.assert_allclose(centre, [[2.0, 3.75]])
+    np.testing.assert_allclose(front, [[0.0, -1.0]], atol=1e-12)  # into the room
+    np.testing.assert_allclose(half, [[0.6, 0.25]])
+    assert sill.tolist() == [0.9]
+
+
+# -- random plans ---------------------------------------------------------------------------
+
+
+@settings(max_examples=25, deadline=None)
+@given(plan=plans(max_objects=6), seed=st.integers(0, 2**16),
+       walkable=st.lists(st.booleans(), min_size=6, max_size=6))
+def test_checks_never_crash_on_random_plans_and_fractions_stay_in_range(plan, seed, walkable):
+    data = plan.model_dump()
+    for o, w in zip(data["objects"], walkable, strict=False):
+        o["walkable"] = w
+    plan = Plan.model_validate(data)
+    lay = random_layout(plan, seed, reject=False)
+    rep = check_layout(lay)
+    assert 0.0 <= rep.navigable_fraction <= rep.free_fraction <= 1.0
+    assert rep.ok == (not rep.failures)
+    assert set(rep.unreachable) == set(rep.blocked_by)
+    for f in rep.failures:
+        assert f.split(": ", 1)[0] in CHECKS
+        assert f.split(": ", 1)[1]
+    for oid, who in rep.blocked_by.items():
+        assert oid not in who
+        assert not any(plan.object(b).is_walkable for b in who)

@@ -47,7 +47,7 @@ __all__ = [
 ]
 __version__ = "0.1.0"
 
-_LAZY = {"metrics", "validate", "render", "testing"}
+_LAZY = {"metrics", "validate", "render", "testing", "diagnose"}
 
 
 def __getattr__(name: str):  # submodules loaded on first use: `fl.metrics`, `fl.validate`, ...

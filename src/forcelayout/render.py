@@ -11,6 +11,10 @@ What a picture shows (room coordinates, metres, equal aspect):
 * each floor object as its oriented footprint, filled with a colour per
   functional area (or per category when it has no area), labelled with its
   id, with a thick line on its front edge;
+* walkable floor covers (rugs, mats; :attr:`SceneObject.is_walkable`) first,
+  beneath the furniture, as a light translucent hatched footprint with a thin
+  dashed outline and the label in a corner, so furniture standing on them
+  stays visible;
 * objects on top of others (dashed outline), on walls (dash-dot outline)
   and on the ceiling (dotted outline, no fill);
 * optionally the cells free for the agent's centre (``show_free_space``);
@@ -99,14 +103,40 @@ def _draw_room(ax: Axes, layout: Layout) -> None:
                     ha="center", va="center", color="#8c6d46", zorder=8)
 
 
+_COVER_Z = 1.5  # walkable covers: above the floor and door squares, below the free cells
+
+
 def _draw_objects(ax: Axes, layout: Layout, labels: bool, failing: set[str]
-                  ) -> dict[str, Any]:
+                  ) -> tuple[dict[str, Any], set[str]]:
+    """Draw every placed object; return the legend's colours and the keys of the covers."""
     colours = _colour_table(layout)
     used: dict[str, Any] = {}
+    cover_keys: set[str] = set()
     styles = {"floor": ("-", 1.0, 3), "top": ("--", 0.75, 4), "wall": ("-.", 0.6, 4),
               "ceiling": (":", 0.0, 9)}
-    for oid in layout.ids():
-        obj = layout.plan.object(oid)
+    plan = layout.plan
+    ids = layout.ids()
+    covers = [oid for oid in ids
+              if layout.poses[oid].surface == "floor" and plan.object(oid).is_walkable]
+    for oid in covers:  # first, so everything else draws over them
+        obj = plan.object(oid)
+        key = obj.area or obj.category
+        colour = colours[key]
+        used[key] = colour
+        cover_keys.add(key)
+        c = layout.corners(oid)
+        edge = _FAIL if oid in failing else colour
+        ax.add_patch(PolygonPatch(c, closed=True, facecolor=(*colour[:3], 0.22),
+                                  edgecolor=edge, lw=1.4 if oid in failing else 0.8, ls="--",
+                                  hatch="//", zorder=_COVER_Z, gid=f"walkable:{oid}"))
+        if labels:
+            at = c[3] + 0.2 * (c[1] - c[3])  # inside, near the front-left corner
+            ax.text(at[0], at[1], oid, fontsize=5.5, ha="center", va="center", zorder=10,
+                    color="#555555", style="italic")
+    for oid in ids:
+        if oid in covers:
+            continue
+        obj = plan.object(oid)
         surf = layout.poses[oid].surface
         kind = ("floor" if surf == "floor" else "ceiling" if surf == "ceiling"
                 else "wall" if surf.startswith("wall:") else "top")
@@ -118,7 +148,8 @@ def _draw_objects(ax: Axes, layout: Layout, labels: bool, failing: set[str]
         edge = _FAIL if oid in failing else _WALL
         face = (*colour[:3], alpha) if alpha > 0 else "none"
         ax.add_patch(PolygonPatch(c, closed=True, facecolor=face, edgecolor=edge,
-                                  lw=1.6 if oid in failing else 0.9, ls=ls, zorder=z))
+                                  lw=1.6 if oid in failing else 0.9, ls=ls, zorder=z,
+                                  gid=f"object:{oid}"))
         if kind != "ceiling":  # front edge: corners 2 -> 3
             ax.plot(c[2:4, 0], c[2:4, 1], color=edge, lw=2.6, solid_capstyle="butt",
                     zorder=z + 0.1)
@@ -127,7 +158,8 @@ def _draw_objects(ax: Axes, layout: Layout, labels: bool, failing: set[str]
             ax.text(centre[0], centre[1], oid, fontsize=6, ha="center", va="center",
                     zorder=10, color="#111111",
                     style="italic" if kind != "floor" else "normal")
-    return used
+        cover_keys.discard(key)  # the key also names furniture: a plain legend patch
+    return used, cover_keys
 
 
 def _failing_ids(layout: Layout, failures: Sequence[str]) -> set[str]:
@@ -199,7 +231,7 @@ def draw_layout(
         ax.imshow(np.where(report.free_mask, 1.0, np.nan), origin="lower", cmap="Greens",
                   vmin=0.0, vmax=2.0, alpha=0.45, interpolation="nearest", zorder=2,
                   extent=(ox, ox + w * report.grid, oy, oy + h * report.grid))
-    used = _draw_objects(ax, layout, labels, _failing_ids(layout, failures))
+    used, cover_keys = _draw_objects(ax, layout, labels, _failing_ids(layout, failures))
 
     pad = 0.25
     ax.set_xlim(xmin - pad, xmax + pad)
@@ -210,8 +242,11 @@ def draw_layout(
     ax.tick_params(labelsize=7)
     ax.set_title(title if title is not None else f"{layout.plan.name} · seed {layout.seed}",
                  fontsize=9)
-    handles: list[Any] = [Patch(facecolor=c, edgecolor=_WALL, lw=0.5, label=k)
-                          for k, c in used.items()]
+    handles: list[Any] = [
+        Patch(facecolor=(*c[:3], 0.22), edgecolor=c, hatch="//", ls="--", lw=0.6,
+              label=f"{k} (walkable)") if k in cover_keys
+        else Patch(facecolor=c, edgecolor=_WALL, lw=0.5, label=k)
+        for k, c in used.items()]
     handles.append(Line2D([], [], color=_WALL, lw=2.6, label="front"))
     if show_free_space:
         handles.append(Patch(facecolor=colormaps["Greens"](0.5), alpha=0.45,

@@ -8,10 +8,10 @@ Examples
 >>> from forcelayout.validate import check_layout
 >>> report = check_layout(layout, agent_radius=0.2)   # doctest: +SKIP
 >>> print(report)                                     # doctest: +SKIP
-ok: 58% of the floor free
+ok: 58% of the floor free (47% with the wall band)
 """
 
-from forcelayout.validate.checks import CHECKS, CheckReport, check_layout
+from forcelayout.validate.checks import CHECKS, CheckReport, check_layout, window_zones
 from forcelayout.validate.occupancy import RoomGrid, footprint_distance, occupancy_mask, room_grid
 
 __all__ = [
@@ -22,4 +22,5 @@ __all__ = [
     "room_grid",
     "RoomGrid",
     "footprint_distance",
+    "window_zones",
 ]

@@ -4,24 +4,35 @@
 
 ``collision``
     No two floor objects' footprints overlap by more than ``max_overlap`` m².
+    Walkable floor covers (rugs, mats; :attr:`SceneObject.is_walkable`) are
+    no obstacle: furniture may stand on them and they may overlap each other.
 ``outside``
-    No floor object's footprint lies outside the floor polygon by more than
-    ``max_overlap`` m².
+    No floor object's footprint, walkable ones included, lies outside the
+    floor polygon by more than ``max_overlap`` m².
 ``door``
-    No floor object covers more than ``max_overlap`` m² of the square of door
-    width in front of any door (its swing area).
+    No floor object (walkable ones excepted) covers more than
+    ``max_overlap`` m² of the square of door width in front of any door (its
+    swing area).
+``window``
+    No floor object taller than a window's sill (walkable ones excepted)
+    covers more than ``max_overlap`` m² of the window's clearance zone: the
+    window's width, :attr:`Window.clearance` metres deep into the room.
 ``surface``
     Objects off the floor rest where they say: on top of a placed parent and
     inside its top; on an existing wall, within its ends, below the ceiling;
     on the ceiling above the floor.
 ``navigable``
-    Floor objects inflated by the agent radius, and the walls, leave at
-    least ``min_free_fraction`` of the floor cells free for the agent's centre.
+    Floor objects (walkable ones excepted) inflated by the agent radius leave
+    at least ``min_free_fraction`` of the floor free; the walls are not
+    inflated (DESIGN.md's definition). The share with a wall band of the agent
+    radius taken out as well is reported as ``navigable_fraction``.
 ``reachable``
     Every primary floor object has a free cell within ``agent_radius + reach``
     of its footprint (the agent's body comes within ``reach`` of it) that is
-    4-connected through free cells to the cells just inside each door. A room
-    without doors is checked from its largest free region instead.
+    4-connected through cells free for the agent's centre (at least the agent
+    radius from furniture *and* from solid walls) to the cells just inside
+    each door. A room without doors is checked from its largest free region
+    instead. A failure names the objects that block the cheapest way in.
 
 Each failure is a line ``"<check>: <reason naming the objects>"``.
 """
@@ -33,20 +44,23 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
-from scipy import ndimage
+from scipy import ndimage, sparse
+from scipy.sparse import csgraph
 
-from forcelayout.geometry import front_vectors, right_vectors, separation_matrix
+from forcelayout.geometry import RoomGeometry, front_vectors, right_vectors, separation_matrix
 from forcelayout.validate.occupancy import _floor_arrays, _footprint_dist2, room_grid
 
 if TYPE_CHECKING:
     from forcelayout.layout import Layout
+    from forcelayout.plan import Room
 
-__all__ = ["CheckReport", "check_layout", "CHECKS"]
+__all__ = ["CheckReport", "check_layout", "CHECKS", "window_zones"]
 
 #: Names of the checks, in the order they run.
-CHECKS = ("collision", "outside", "door", "surface", "navigable", "reachable")
+CHECKS = ("collision", "outside", "door", "window", "surface", "navigable", "reachable")
 
 _SURFACE_TOL = 0.01  # metres of slack for objects on walls
+_BLOCKED_COST = 100.0  # cost of a blocked cell against a free one when naming blockers
 
 
 @dataclass
@@ -60,11 +74,25 @@ class CheckReport:
     failures : list of str
         One line per problem, ``"<check>: <reason naming the objects>"``.
     free_fraction : float
-        Fraction of the floor cells free for the agent's centre, in [0, 1].
+        Share of the floor cells farther than the agent radius from every
+        floor obstacle (walkable covers are none), in [0, 1]; the walls are not
+        inflated. The ``navigable`` check compares it with
+        ``min_free_fraction``.
+    navigable_fraction : float
+        Share of the floor cells where the agent's centre fits: farther than
+        the agent radius from every floor obstacle and at least the agent
+        radius from every solid wall, in [0, 1] (never more than
+        ``free_fraction``). Reported only, unless ``check_layout(...,
+        wall_band=True)``.
     unreachable : list of str
         Ids of primary objects not reachable from every door.
+    blocked_by : dict of str to list of str
+        For each unreachable primary object, the floor objects in the way of
+        the cheapest path to it (from the first door that cannot reach it),
+        nearest the door first; empty when only the walls are in the way.
     free_mask : ndarray of bool, shape (H, W), optional
-        Free cells (rows along +y, columns along +x).
+        Cells free for the agent's centre (furniture and wall band taken out;
+        what ``reachable`` walks on). Rows along +y, columns along +x.
     origin : ndarray, shape (2,), optional
         World position of the lower-left corner of cell ``[0, 0]``, metres.
     grid : float
@@ -74,7 +102,9 @@ class CheckReport:
     ok: bool
     failures: list[str] = field(default_factory=list)
     free_fraction: float = 1.0
+    navigable_fraction: float = 1.0
     unreachable: list[str] = field(default_factory=list)
+    blocked_by: dict[str, list[str]] = field(default_factory=dict)
     free_mask: np.ndarray | None = field(default=None, repr=False)
     origin: np.ndarray | None = field(default=None, repr=False)
     grid: float = 0.05
@@ -97,12 +127,23 @@ class CheckReport:
         return self.ok
 
     def __str__(self) -> str:
-        head = (f"{'ok' if self.ok else 'FAILED'}: {self.free_fraction:.0%} of the floor free")
+        head = (f"{'ok' if self.ok else 'FAILED'}: {self.free_fraction:.0%} of the floor free "
+                f"({self.navigable_fraction:.0%} with the wall band)")
         return "\n".join([head, *(f"  {f}" for f in self.failures)])
 
 
 def _area(a: float) -> str:
     return f"{a:.2f}" if a >= 0.01 else f"{a:.2g}"
+
+
+def _percents(value: float, need: float) -> tuple[str, str]:
+    """``value`` and ``need`` as percentages, with enough digits to show ``value < need``."""
+    shown_need = f"{100 * need:.6g}"
+    for digits in range(5):
+        shown = f"{100 * value:.{digits}f}"
+        if float(shown) < float(shown_need):
+            return shown, shown_need
+    return f"{100 * value:.6g}", shown_need
 
 
 def _polygons(corners: np.ndarray) -> np.ndarray:
@@ -135,35 +176,46 @@ def check_layout(
     reach: float = 0.25,
     max_overlap: float = 1e-4,
     door_clearance: bool = True,
+    window_clearance: bool = True,
+    wall_band: bool = False,
 ) -> CheckReport:
     """Run the deterministic checks on a layout.
 
     Parameters
     ----------
     layout : Layout
-        Poses per object; objects whose surface is ``"floor"`` are obstacles.
+        Poses per object; objects whose surface is ``"floor"`` are obstacles,
+        except walkable floor covers (:attr:`SceneObject.is_walkable`).
     agent_radius : float
         Radius of the disc-shaped agent, metres (default 0.2).
     grid : float
         Cell size of the floor grid used by ``navigable`` and ``reachable``,
         metres (default 0.05).
     min_free_fraction : float
-        Smallest fraction of the floor that must stay free for the agent's
-        centre, in [0, 1] (default 0.3).
+        Smallest fraction of the floor that must stay free of floor obstacles
+        inflated by the agent radius, in [0, 1] (default 0.3).
     reach : float
         How close, in metres, the agent's body must get to each primary
         object (default 0.25).
     max_overlap : float
-        Overlap area tolerated by ``collision``, ``outside``, ``door`` and
-        on-top placement, m² (default 1e-4).
+        Overlap area tolerated by ``collision``, ``outside``, ``door``,
+        ``window`` and on-top placement, m² (default 1e-4).
     door_clearance : bool
         Run the ``door`` check (default True).
+    window_clearance : bool
+        Run the ``window`` check (default True).
+    wall_band : bool
+        Let ``navigable`` compare the share of the floor free for the agent's
+        centre *with* a wall band of the agent radius taken out
+        (``navigable_fraction``) instead of ``free_fraction`` (default False,
+        as DESIGN.md defines the check).
 
     Returns
     -------
     CheckReport
-        ``ok``, the failure lines, the free fraction, unreachable primary
-        objects and the free-cell mask.
+        ``ok``, the failure lines, the free and navigable fractions,
+        unreachable primary objects with what blocks them, and the free-cell
+        mask.
 
     Examples
     --------
@@ -179,47 +231,67 @@ def check_layout(
         raise ValueError(f"check_layout: min_free_fraction must lie in [0, 1], "
                          f"got {min_free_fraction!r}")
     room = layout.room
+    plan = layout.plan
     failures: list[str] = []
     ids, pos, yaw, half = _floor_arrays(layout)
+    walk = np.array([plan.object(i).is_walkable for i in ids], dtype=bool)
+    height = np.array([plan.object(i).size[2] for i in ids], dtype=float)
     right, front = right_vectors(yaw), front_vectors(yaw)
     corners = _corners(pos, right, front, half)
     polys = _polygons(corners)
+    solid = np.nonzero(~walk)[0]  # floor obstacles
 
-    failures += _collisions(ids, pos, right, front, half, polys, max_overlap)
+    failures += _collisions(ids, pos, right, front, half, polys, solid, max_overlap)
     failures += _outside(ids, corners, polys, room, max_overlap)
     if door_clearance:
-        failures += _doors(ids, pos, right, front, half, polys, room, max_overlap)
+        failures += _doors(ids, pos, right, front, half, polys, solid, room, max_overlap)
+    if window_clearance:
+        failures += _windows(ids, pos, right, front, half, polys, solid, height, layout,
+                             max_overlap)
     failures += _surfaces(layout, max_overlap)
 
     rg = room_grid(room, grid=grid, agent_radius=agent_radius)
     if len(ids):
         dist2 = _footprint_dist2(rg.xs, rg.ys, pos - rg.origin, yaw, half)
-        free = rg.wall_free & (dist2.min(0) > np.float32(agent_radius) ** 2)
     else:
         dist2 = np.zeros((0, *rg.shape), dtype=np.float32)
-        free = rg.wall_free.copy()
-    free_fraction = float(free.sum()) / max(rg.n_floor, 1)
-    if free_fraction < min_free_fraction:
-        failures.append(
-            f"navigable: only {free_fraction:.0%} of the floor is free for an agent of radius "
-            f"{agent_radius:g} m (need {min_free_fraction:.0%})")
+    r2 = np.float32(agent_radius) ** 2
+    if len(solid):
+        clear = dist2[solid].min(0) > r2
+        blocked = dist2[solid] <= r2  # (S, H, W): cells each obstacle takes from the agent
+    else:
+        clear = np.ones(rg.shape, dtype=bool)
+        blocked = np.zeros((0, *rg.shape), dtype=bool)
+    n_floor = max(rg.n_floor, 1)
+    free_fraction = float((rg.floor & clear).sum()) / n_floor
+    free = rg.wall_free & clear
+    navigable_fraction = float(free.sum()) / n_floor
+    judged = navigable_fraction if wall_band else free_fraction
+    if judged < min_free_fraction:
+        shown, need = _percents(judged, min_free_fraction)
+        where = "for the centre of" if wall_band else "for"
+        failures.append(f"navigable: only {shown}% of the floor is free {where} an agent of "
+                        f"radius {agent_radius:g} m (need {need}%)")
 
-    unreachable, reach_fail = _reachable(layout, ids, dist2, free, rg.door_seeds,
-                                         agent_radius + reach)
+    unreachable, blocked_by, reach_fail = _reachable(
+        layout, ids, solid, dist2, blocked, free, rg, agent_radius + reach)
     failures += reach_fail
     return CheckReport(ok=not failures, failures=failures, free_fraction=free_fraction,
-                       unreachable=unreachable, free_mask=free, origin=rg.origin.copy(),
+                       navigable_fraction=navigable_fraction, unreachable=unreachable,
+                       blocked_by=blocked_by, free_mask=free, origin=rg.origin.copy(),
                        grid=float(grid))
 
 
 def _collisions(ids: list[str], pos: np.ndarray, right: np.ndarray, front: np.ndarray,
-                half: np.ndarray, polys: np.ndarray, max_overlap: float) -> list[str]:
-    if len(ids) < 2:
+                half: np.ndarray, polys: np.ndarray, solid: np.ndarray, max_overlap: float
+                ) -> list[str]:
+    if len(solid) < 2:
         return []
-    sep = separation_matrix(pos, right, front, half)
+    sep = separation_matrix(pos[solid], right[solid], front[solid], half[solid])
     i, j = np.nonzero(np.triu(sep < 0.0, k=1))
     if len(i) == 0:
         return []
+    i, j = solid[i], solid[j]
     area = shapely.area(shapely.intersection(polys[i], polys[j]))
     bad = area > max_overlap
     return [f"collision: {ids[a]!r} and {ids[b]!r} overlap by {_area(s)} m²"
@@ -254,23 +326,81 @@ def _outside(ids: list[str], corners: np.ndarray, polys: np.ndarray, room,
             for k, a in zip(cand[bad], area[bad], strict=True)]
 
 
-def _doors(ids: list[str], pos: np.ndarray, right: np.ndarray, front: np.ndarray,
-           half: np.ndarray, polys: np.ndarray, room, max_overlap: float) -> list[str]:
-    n_doors = len(room.doors)
-    if not ids or n_doors == 0:
+def _zone_overlaps(pos: np.ndarray, right: np.ndarray, front: np.ndarray, half: np.ndarray,
+                   polys: np.ndarray, cand: np.ndarray, zones: tuple[np.ndarray, ...],
+                   max_overlap: float) -> list[tuple[int, int]]:
+    """(object, zone) pairs whose footprint covers more than ``max_overlap`` of the zone."""
+    zc, zr, zf, zh = zones
+    if len(cand) == 0 or len(zc) == 0:
         return []
-    dc, dr, df, dh = room.door_squares
-    allpos = np.vstack([pos, dc])
-    sep = separation_matrix(allpos, np.vstack([right, dr]), np.vstack([front, df]),
-                            np.vstack([half, dh]))[: len(ids), len(ids):]  # (N, D)
-    k, d = np.nonzero(sep < 0.0)
+    n = len(cand)
+    sep = separation_matrix(np.vstack([pos[cand], zc]), np.vstack([right[cand], zr]),
+                            np.vstack([front[cand], zf]), np.vstack([half[cand], zh]))[:n, n:]
+    k, z = np.nonzero(sep < 0.0)
     if len(k) == 0:
         return []
-    squares = _polygons(_corners(dc, dr, df, dh))
-    area = shapely.area(shapely.intersection(polys[k], squares[d]))
+    squares = _polygons(_corners(zc, zr, zf, zh))
+    area = shapely.area(shapely.intersection(polys[cand[k]], squares[z]))
     bad = area > max_overlap
-    return [f"door: {ids[a]!r} blocks the swing area of door {b}"
-            for a, b in zip(k[bad], d[bad], strict=True)]
+    return [(int(cand[a]), int(b)) for a, b in zip(k[bad], z[bad], strict=True)]
+
+
+def _doors(ids: list[str], pos: np.ndarray, right: np.ndarray, front: np.ndarray,
+           half: np.ndarray, polys: np.ndarray, solid: np.ndarray, room, max_overlap: float
+           ) -> list[str]:
+    if len(room.doors) == 0:
+        return []
+    hits = _zone_overlaps(pos, right, front, half, polys, solid, room.door_squares, max_overlap)
+    return [f"door: {ids[a]!r} blocks the swing area of door {b}" for a, b in hits]
+
+
+def window_zones(room: Room) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                                      np.ndarray]:
+    """Each window's clearance zone as a box, and the window's sill height.
+
+    The zone is what the ``window`` check keeps free of floor objects taller
+    than the sill: the window's width along its wall, ``Window.clearance``
+    metres deep into the room.
+
+    Parameters
+    ----------
+    room : Room
+        The plan's room (``plan.room``).
+
+    Returns
+    -------
+    centre, right, front, half : ndarray, shapes (K, 2)
+        Centre, unit axes (``right`` along the wall, ``front`` into the room)
+        and half extents (half width, half depth) of each zone, metres.
+    sill : ndarray, shape (K,)
+        Sill height of each window above the floor, metres.
+    """
+    return _window_zones(RoomGeometry.from_room(room), room.windows)
+
+
+def _window_zones(geom: RoomGeometry, specs: list) -> tuple[np.ndarray, ...]:
+    w = geom.windows
+    depth = np.array([o.clearance for o in specs], dtype=float).reshape(-1)
+    sill = np.array([o.sill for o in specs], dtype=float).reshape(-1)
+    centre = (w.centre + w.normal * depth[:, None] * 0.5).reshape(-1, 2)
+    half = np.stack([w.width * 0.5, depth * 0.5], axis=1).reshape(-1, 2)
+    return centre, w.tangent.copy(), w.normal.copy(), half, sill
+
+
+def _windows(ids: list[str], pos: np.ndarray, right: np.ndarray, front: np.ndarray,
+             half: np.ndarray, polys: np.ndarray, solid: np.ndarray, height: np.ndarray,
+             layout: Layout, max_overlap: float) -> list[str]:
+    if not len(layout.plan.room.windows) or not len(solid):
+        return []
+    zc, zr, zf, zh, sill = _window_zones(layout.room, layout.plan.room.windows)
+    out = []
+    for k in np.nonzero(zh[:, 1] > 0)[0]:  # a zone of depth 0 is switched off
+        tall = solid[height[solid] > sill[k] + 1e-9]
+        zone = (zc[k:k + 1], zr[k:k + 1], zf[k:k + 1], zh[k:k + 1])
+        for a, _ in _zone_overlaps(pos, right, front, half, polys, tall, zone, max_overlap):
+            out.append(f"window: {ids[a]!r} ({height[a]:.2f} m tall) stands in front of "
+                       f"window {k} (sill {sill[k]:.2f} m)")
+    return out
 
 
 def _pose_corners(layout: Layout, oid: str) -> np.ndarray:
@@ -341,23 +471,28 @@ def _wall_surface(oid: str, p, size: tuple[float, float, float], surf: str, room
     return out
 
 
-def _reachable(layout: Layout, ids: list[str], dist2: np.ndarray, free: np.ndarray,
-               seeds: np.ndarray, near: float) -> tuple[list[str], list[str]]:
+def _reachable(layout: Layout, ids: list[str], solid: np.ndarray, dist2: np.ndarray,
+               blocked: np.ndarray, free: np.ndarray, rg, near: float
+               ) -> tuple[list[str], dict[str, list[str]], list[str]]:
     prim = [k for k, oid in enumerate(ids) if layout.plan.object(oid).primary]
     if not prim:
-        return [], []
+        return [], {}, []
+    seeds = rg.door_seeds
     labels, n = ndimage.label(free)  # 4-connected in 2D
     if len(seeds):
+        sources = list(seeds)
         door_labels = [np.unique(labels[s & free]) for s in seeds]
         door_labels = [lab[lab > 0] for lab in door_labels]
         names = [f"door {k}" for k in range(len(seeds))]
     else:
         if n == 0:
             door_labels = [np.zeros(0, dtype=int)]
+            sources = [np.zeros(free.shape, dtype=bool)]
         else:
             sizes = np.bincount(labels.ravel(), minlength=n + 1)
             sizes[0] = 0
             door_labels = [np.array([int(sizes.argmax())])]
+            sources = [labels == door_labels[0][0]]
         names = ["the largest free region"]
     # label membership per region: (n + 1,) bool table per door
     table = np.zeros((len(door_labels), n + 1), dtype=bool)
@@ -365,13 +500,104 @@ def _reachable(layout: Layout, ids: list[str], dist2: np.ndarray, free: np.ndarr
         table[k, lab] = True
     near_cells = dist2[prim] <= np.float32(near) ** 2  # (P, H, W)
     unreachable: list[str] = []
+    blocked_by: dict[str, list[str]] = {}
     failures: list[str] = []
+    paths: _PathFinder | None = None
     for row, k in enumerate(prim):
         labs = np.unique(labels[near_cells[row] & free])
         labs = labs[labs > 0]
         ok = table[:, labs].any(-1) if len(labs) else np.zeros(len(table), dtype=bool)
-        if not ok.all():
-            unreachable.append(ids[k])
-            for d in np.nonzero(~ok)[0]:
-                failures.append(f"reachable: {ids[k]!r} cannot be reached from {names[d]}")
-    return unreachable, failures
+        if ok.all():
+            continue
+        unreachable.append(ids[k])
+        if paths is None:
+            paths = _PathFinder(rg.floor, free, blocked)
+        for d in np.nonzero(~ok)[0]:
+            who = [ids[solid[s]] for s in paths.blockers(int(d), sources[d], near_cells[row])
+                   if solid[s] != k]
+            blocked_by.setdefault(ids[k], who)
+            because = (f" (blocked by {', '.join(repr(b) for b in who)})" if who
+                       else " (the walls leave no way through)")
+            failures.append(f"reachable: {ids[k]!r} cannot be reached from {names[d]}{because}")
+    return unreachable, blocked_by, failures
+
+
+class _PathFinder:
+    """Cheapest 4-connected paths over the floor cells, where blocked cells cost much more.
+
+    A free cell costs 1 to enter; a floor cell not free for the agent's centre
+    (near furniture or in the wall band) costs 1 + ``_BLOCKED_COST``. The
+    cheapest path from a door to an object crosses the thinnest obstruction;
+    the furniture around its blocked cells is what stands in the way.
+    """
+
+    def __init__(self, floor: np.ndarray, free: np.ndarray, blocked: np.ndarray):
+        self.blocked = blocked.reshape(len(blocked), -1)
+        cells, index, indices, indptr = _grid_graph(floor)
+        self.cells, self.index = cells, index
+        cost = np.where(free.ravel()[cells], 1.0, 1.0 + _BLOCKED_COST)
+        m = len(cells)
+        self.graph = sparse.csr_matrix((cost[indices], indices, indptr), shape=(m, m))
+        self._runs: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+    def blockers(self, key: int, source: np.ndarray, target: np.ndarray) -> list[int]:
+        """Rows of ``blocked`` crossed by the cheapest path from ``source`` to ``target``.
+
+        In path order from ``source``; ``key`` names the source (runs from one
+        source are shared between targets).
+        """
+        src = self.index[np.flatnonzero(source.ravel())]
+        src = src[src >= 0]
+        dst = self.index[np.flatnonzero(target.ravel())]
+        dst = dst[dst >= 0]
+        if len(src) == 0 or len(dst) == 0:
+            return []
+        if key not in self._runs:
+            self._runs[key] = csgraph.dijkstra(self.graph, indices=src, min_only=True,
+                                               return_predecessors=True)[:2]
+        dist, pred = self._runs[key]
+        end = dst[np.argmin(dist[dst])]
+        if not np.isfinite(dist[end]):
+            return []
+        path = [end]
+        while pred[path[-1]] >= 0:
+            path.append(pred[path[-1]])
+        cells = self.cells[np.array(path[::-1])]
+        hits = self.blocked[:, cells]  # (S, L)
+        crossed = np.nonzero(hits.any(1))[0]
+        first = hits[crossed].argmax(1)
+        return [int(c) for c in crossed[np.argsort(first, kind="stable")]]
+
+
+_GRAPHS: dict[int, tuple[np.ndarray, tuple[np.ndarray, ...]]] = {}
+
+
+def _grid_graph(floor: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The 4-neighbour graph of a room grid's floor cells, in CSR form (cached per grid).
+
+    Returns the flat indices of the floor cells, the node of each grid cell
+    (-1 off the floor), and the CSR ``indices`` and ``indptr`` arrays.
+    """
+    hit = _GRAPHS.get(id(floor))
+    if hit is not None and hit[0] is floor:
+        return hit[1]
+    h, w = floor.shape
+    cells = np.flatnonzero(floor)
+    index = np.full(floor.size, -1, dtype=np.int64)
+    index[cells] = np.arange(len(cells))
+    g = index.reshape(h, w)
+    src, dst = [], []
+    for a, b in ((g[:, :-1], g[:, 1:]), (g[:-1, :], g[1:, :])):
+        both = (a >= 0) & (b >= 0)
+        src += [a[both], b[both]]
+        dst += [b[both], a[both]]
+    s, t = np.concatenate(src), np.concatenate(dst)
+    order = np.lexsort((t, s))
+    s, t = s[order], t[order]
+    indptr = np.zeros(len(cells) + 1, dtype=np.int64)
+    np.add.at(indptr, s + 1, 1)
+    out = (cells, index, t, np.cumsum(indptr))
+    if len(_GRAPHS) >= 64:
+        _GRAPHS.clear()
+    _GRAPHS[id(floor)] = (floor, out)
+    return out

@@ -5,8 +5,9 @@ The floor's bounding box is cut into square cells of ``grid`` metres; cell
 so rows run along +y and columns along +x. A cell is *floor* when its centre
 lies inside the floor polygon. A floor cell is *free* for a disc-shaped agent
 of radius ``agent_radius`` when its centre is farther than ``agent_radius``
-from every floor object's footprint and at least ``agent_radius`` from every
-solid part of a wall (door openings are not solid, so an agent can pass).
+from every floor obstacle's footprint (walkable covers such as rugs are none)
+and at least ``agent_radius`` from every solid part of a wall (door openings
+are not solid, so an agent can pass).
 
 Per-room grids (floor cells, wall clearance, the cells just inside each
 door) depend only on the room, the grid size and the agent radius; they are
@@ -219,8 +220,16 @@ def _footprint_dist2(
     return qx
 
 
-def _floor_arrays(layout: Layout) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
+def _floor_arrays(layout: Layout, *, obstacles_only: bool = False
+                  ) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
+    """Ids, centres, headings and half extents of the floor objects.
+
+    With ``obstacles_only``, walkable floor covers (rugs, mats) are left out.
+    """
     ids = layout.ids("floor")
+    if obstacles_only:
+        plan = layout.plan
+        ids = [i for i in ids if not plan.object(i).is_walkable]
     if not ids:
         return ids, np.zeros((0, 2)), np.zeros(0), np.zeros((0, 2))
     poses = layout.poses
@@ -233,7 +242,10 @@ def _floor_arrays(layout: Layout) -> tuple[list[str], np.ndarray, np.ndarray, np
 def occupancy_mask(
     layout: Layout, *, agent_radius: float = 0.2, grid: float = 0.05
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Floor cells covered by floor objects inflated by the agent radius.
+    """Floor cells covered by floor obstacles inflated by the agent radius.
+
+    Walkable floor covers (rugs, mats; :attr:`SceneObject.is_walkable`) are
+    no obstacle and leave no mark.
 
     Two layouts of the same plan share the grid, so their masks can be
     compared cell by cell (e.g. a Jaccard distance for topological diversity).
@@ -250,13 +262,13 @@ def occupancy_mask(
     -------
     mask : ndarray of bool, shape (H, W)
         True on floor cells whose centre is within ``agent_radius`` of a
-        floor object's footprint; rows run along +y, columns along +x.
+        floor obstacle's footprint; rows run along +y, columns along +x.
         Walls are not marked.
     origin : ndarray, shape (2,)
         World position (metres) of the lower-left corner of cell ``[0, 0]``.
     """
     rg = room_grid(layout.room, grid=grid, agent_radius=agent_radius)
-    _, pos, yaw, half = _floor_arrays(layout)
+    _, pos, yaw, half = _floor_arrays(layout, obstacles_only=True)
     if len(pos) == 0:
         return np.zeros(rg.shape, dtype=bool), rg.origin.copy()
     d2 = _footprint_dist2(rg.xs, rg.ys, pos - rg.origin, yaw, half)

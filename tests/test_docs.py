@@ -54,6 +54,11 @@ PUBLIC_MODULES = (
     "forcelayout.report",
     "forcelayout.geometry",
     "forcelayout.rules.physical",
+    "forcelayout.rules.shaping",
+    "forcelayout.bindings",
+    "forcelayout.options",
+    "forcelayout.sources",
+    "forcelayout.access",
 )
 #: Optional subpackages: checked only when their extra is installed.
 OPTIONAL_MODULES = (("forcelayout.export", "trimesh"), ("forcelayout.llm", "openai"))

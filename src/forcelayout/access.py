@@ -33,7 +33,7 @@ from forcelayout.bindings import Binding
 from forcelayout.plan import SceneObject
 from forcelayout.rules.base import Access, State
 
-__all__ = ["CATEGORY_ACCESS", "access_of", "AccessTerm"]
+__all__ = ["CATEGORY_ACCESS", "access_of", "AccessTerm", "access_term"]
 
 _FRONT = ("front",)
 _LONG_SIDES = ("left", "right")

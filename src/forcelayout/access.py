@@ -30,6 +30,7 @@ import numpy as np
 
 from forcelayout import geometry as geo
 from forcelayout.bindings import Binding
+from forcelayout.clearance import push_out
 from forcelayout.plan import SceneObject
 from forcelayout.rules.base import Access, State
 
@@ -138,21 +139,7 @@ class AccessTerm:
             active &= keep[:, None]
         if not active.any():
             return f, np.zeros(n)
-        z, b = np.nonzero(active)
-        d = state.pos[b] - centre[z]
-        a = (d * lateral[z]).sum(1)
-        ahead = (d * out[z]).sum(1)
-        ext_a = np.abs((state.right[b] * lateral[z]).sum(1)) * state.half[b, 0] \
-            + np.abs((state.front[b] * lateral[z]).sum(1)) * state.half[b, 1]
-        ext_o = np.abs((state.right[b] * out[z]).sum(1)) * state.half[b, 0] \
-            + np.abs((state.front[b] * out[z]).sum(1)) * state.half[b, 1]
-        pen_side = half[z, 0] + ext_a - np.abs(a)  # to leave sideways
-        pen_out = half[z, 1] + ext_o - ahead  # to leave through the far end
-        sideways = pen_side <= pen_out
-        mag = np.minimum(self.strength * pen[z, b], 0.15 * self.strength)
-        push = np.where(sideways[:, None], lateral[z] * np.where(a >= 0, 1.0, -1.0)[:, None],
-                        out[z]) * mag[:, None]
-        np.add.at(f, b, push)
+        push_out(f, state, centre, out, lateral, half, pen, active, self.strength)
         return f, np.zeros(n)
 
     def _least_obstructed(self, state, centre, out, lateral, half, pen) -> np.ndarray:

@@ -33,6 +33,7 @@ import numpy as np
 
 from forcelayout.access import access_term
 from forcelayout.bindings import Binding, CompiledPlan, RuleGroup, compile_plan, group_bindings
+from forcelayout.clearance import WindowTerm
 from forcelayout.geometry import RoomGeometry
 from forcelayout.plan import Plan
 from forcelayout.rules.base import State
@@ -218,11 +219,14 @@ class ForceModel:
                 related[g.i, g.j] = related[g.j, g.i] = True
         free = ~related[self.pi, self.pj]
         self.rules = RuleTerm(self.groups, n)
+        w_window = self.physical_weights.window
         self.terms: list[ForceTerm] = [
             self.rules,
             PassageTerm(self.pi[free], self.pj[free], self.physical_weights),
             PhysicalTerm(self.pi, self.pj, self.physical_weights, ~self.walkable),
         ]
+        if self.room is self.compiled.room and self.plan.room.windows and w_window > 0:
+            self.terms.append(self._window_term(w_window))
         if self.physical_weights.access > 0:  # free floor in front of wardrobes, desks, ...
             acc = access_term(objects, self.ids, self.bindings, self.walkable, related)
             if acc is not None:
@@ -230,6 +234,16 @@ class ForceModel:
                 self.terms.append(acc)
         for t in terms:
             self.add_term(t)
+
+    def _window_term(self, strength: float) -> WindowTerm:
+        """Floor objects taller than a window's sill kept out of its clearance zone."""
+        win = self.room.windows
+        depth = np.array([w.clearance for w in self.plan.room.windows], dtype=float)
+        sill = np.array([w.sill for w in self.plan.room.windows], dtype=float)
+        centre = win.centre + win.normal * depth[:, None] * 0.5
+        half = np.stack([win.width * 0.5, depth * 0.5], axis=1)
+        return WindowTerm(centre, win.tangent, win.normal, half, sill, self.size[:, 2],
+                          self.walkable, 10.0 * strength)
 
     @property
     def n(self) -> int:

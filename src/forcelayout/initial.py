@@ -19,6 +19,7 @@ import numpy as np
 import shapely
 
 from forcelayout import geometry as geo
+from forcelayout.clearance import WindowTerm
 from forcelayout.forces import ForceModel
 from forcelayout.layout import Layout, Pose
 from forcelayout.validate import check_layout
@@ -365,6 +366,7 @@ def propose_poses(
     parent = parents(model)
     wants = _wants(model)
     walkable = model.walkable
+    window = next((t for t in model.terms if isinstance(t, WindowTerm)), None)
     order = _order(parent, model.size[:, 0] * model.size[:, 1])
     # wall length to keep free beside a parent for children standing beside it
     margin = np.zeros(n)
@@ -435,6 +437,13 @@ def propose_poses(
                                       reserve[None, None], dr[None], df[None], dh[None])
             clear = np.minimum(clear, dsep.min(axis=1))
         unmet = _unmet(room, w, cand, fwd, rgt, half[r], pos, half, set(placed))
+        if window is not None and window.tall[:, r].any():  # tall: not in front of a window
+            z = window.tall[:, r]
+            sep = geo.obb_separation(window.centre[z][None] - cand[:, None], rgt[:, None],
+                                     fwd[:, None], half[r][None, None],
+                                     window.lateral[z][None], window.out[z][None],
+                                     window.half[z][None])
+            unmet += (sep < -0.02).any(axis=1)
         score = np.where(inside, clear, -np.inf)
         # first candidate that is clear and meets the rules it can be judged by,
         # else the clear one meeting most, else the one with the most clearance

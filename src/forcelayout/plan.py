@@ -64,7 +64,8 @@ __all__ = [
 ]
 
 #: Names of the always-on terms whose strength ``Plan.weights`` may scale.
-PHYSICAL_TERMS = frozenset({"repulsion", "passage", "boundary", "alignment", "door", "access"})
+PHYSICAL_TERMS = frozenset({"repulsion", "passage", "boundary", "alignment", "door", "window",
+                            "access"})
 #: Largest fraction of the floor the floor objects' footprints may cover.
 MAX_FLOOR_FILL = 0.6
 #: Categories (or words of a category) that are walkable floor covers by default.

@@ -53,6 +53,9 @@ class PhysicalWeights:
         Strength of the torque settling objects at cardinal angles.
     door : float
         Strength of the push out of each door's entry zone.
+    window : float
+        Strength of the push of floor objects taller than a window's sill out
+        of its clearance zone (:class:`forcelayout.clearance.WindowTerm`).
     access : float
         Strength of the push out of objects' access zones (free floor in front
         of a wardrobe, beside a bed; see :mod:`forcelayout.access`); 0 turns
@@ -69,11 +72,12 @@ class PhysicalWeights:
     boundary_floor: float = 0.015
     alignment: float = 0.6
     door: float = 2.0
+    window: float = 1.0
     access: float = 1.0
 
     def scaled(self, overrides: dict[str, float]) -> PhysicalWeights:
         """A copy with the plan's ``weights`` for ``repulsion``, ``passage``,
-        ``boundary``, ``alignment``, ``door`` and ``access`` multiplied in."""
+        ``boundary``, ``alignment``, ``door``, ``window`` and ``access`` multiplied in."""
         from dataclasses import replace
 
         return replace(
@@ -83,6 +87,7 @@ class PhysicalWeights:
             boundary=self.boundary * overrides.get("boundary", 1.0),
             alignment=self.alignment * overrides.get("alignment", 1.0),
             door=self.door * overrides.get("door", 1.0),
+            window=self.window * overrides.get("window", 1.0),
             access=self.access * overrides.get("access", 1.0),
         )
 

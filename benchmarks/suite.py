@@ -71,7 +71,7 @@ def floor_fill(plan: fl.Plan) -> float:
     """
     off = {s.object for s in plan.rules if type(registry.get_rule(s.rule)).surface != "floor"}
     area = sum(o.size[0] * o.size[1] for o in plan.objects
-               if o.id not in off and not getattr(o, "walkable", False))
+               if o.id not in off and not o.is_walkable)
     return area / plan.room.shape.area
 
 
@@ -291,7 +291,8 @@ def markdown(result: dict[str, Any]) -> str:
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for r in result["plans"]:
         if "error" in r:
-            lines.append(f"| {r['plan']} | error: {r['error'][:80]} |" + " |" * 14)
+            err = " ".join(r["error"].split()).replace("|", "/")
+            lines.append(f"| {r['plan']} | error: {err[:100]} |" + " |" * 14)
             continue
         f, b, t = r["forcelayout"], r["baseline"], r["targets"]
         lines.append(

@@ -55,7 +55,7 @@ __all__ = ["random_layout", "rule_aware_layout", "rejection_sample", "RejectionR
 
 #: Start places relative to the room and relative to the target (see StartHint.place).
 _ROOM_PLACES = frozenset({"wall", "corner", "middle", "window", "door"})
-_TARGET_PLACES = frozenset({"beside", "left", "right", "front", "behind"})
+_TARGET_PLACES = frozenset({"beside", "left", "right", "front", "back"})
 #: Gap a wall-snapped footprint keeps from its wall, metres (the at_wall check allows 0.05).
 _WALL_GAP = 0.005
 
@@ -78,16 +78,9 @@ def _off_floor(plan: Plan) -> dict[str, tuple[type[Rule], str | None]]:
     return out
 
 
-def _is_walkable(plan: Plan, object_id: str) -> bool:
-    """Whether furniture may stand on the object (a rug); ``False`` if the plan cannot say."""
-    return bool(getattr(plan.object(object_id), "walkable", False))
-
-
 def _door_boxes(room: RoomGeometry) -> np.ndarray:
     """Each door's swing square as box corners, shape (D, 4, 2)."""
-    dc, dr, df, dh = room.door_squares
-    return (dc[:, None, :] + geo._LOCAL_CORNERS[None, :, :1] * (dr * dh[:, :1])[:, None, :]
-            + geo._LOCAL_CORNERS[None, :, 1:] * (df * dh[:, 1:])[:, None, :])
+    return geo.corners_from_axes(*room.door_squares)
 
 
 # -- the Random baseline ------------------------------------------------------------------
@@ -204,7 +197,7 @@ class _Hint:
 
     places: frozenset[str] = frozenset()  # room places: wall, corner, middle, window, door
     parent: str | None = None  # the target it starts near
-    near: str | None = None  # where relative to the parent: beside, left, ..., None = around
+    near: str | None = None  # which side of the parent: beside, left, ..., None = all around
     turns: tuple[tuple[str, str], ...] = ()  # (turn, target id)
 
 
@@ -220,14 +213,6 @@ class _Compiled:
     walkable: frozenset[str]
     doors: np.ndarray  # door swing squares as corners (D, 4, 2)
     corners: tuple[np.ndarray, np.ndarray, np.ndarray]  # convex vertex, wall before, wall after
-
-
-def _convex_corners(room: RoomGeometry) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Convex vertices ``k`` of the floor and the walls meeting there (``k - 1`` and ``k``)."""
-    t_prev = np.roll(room.tangent, 1, axis=0)
-    cross = t_prev[:, 0] * room.tangent[:, 1] - t_prev[:, 1] * room.tangent[:, 0]
-    k = np.flatnonzero(cross * np.sign(room.signed_area) > 1e-9)
-    return k, (k - 1) % room.n_walls, k
 
 
 def _reaches(parent: dict[str, str], start: str, goal: str) -> bool:
@@ -284,9 +269,10 @@ def _compile(plan: Plan) -> _Compiled:
         order.append(oid)
         stack.extend(reversed(kids.get(oid, [])))
     half = {oid: np.array(plan.object(oid).size[:2], dtype=float) / 2 for oid in floor}
-    walkable = frozenset(oid for oid in floor if _is_walkable(plan, oid))
+    walkable = frozenset(oid for oid in floor if plan.object(oid).is_walkable)
+    k, _, before, _ = room.convex_corners
     return _Compiled(plan, room, tuple(order), half, hints, walkable, _door_boxes(room),
-                     _convex_corners(room))
+                     (k, before, k))
 
 
 def _cardinal(rng: np.random.Generator, k: int) -> np.ndarray:
@@ -368,7 +354,7 @@ def _near_target(rng: np.random.Generator, k: int, where: str | None, tp: Pose,
     """``k`` centres near a placed target: on the side ``where`` asks, else all around."""
     fq = np.array([-math.sin(tp.yaw), math.cos(tp.yaw)])
     rq = np.array([math.cos(tp.yaw), math.sin(tp.yaw)])
-    if where in ("front", "behind"):
+    if where in ("front", "back"):
         u = np.repeat((fq if where == "front" else -fq)[None], k, axis=0)
         gap, jitter = rng.uniform(0.05, 0.6, k), rng.normal(0.0, 0.15, k)
     elif where in ("beside", "left", "right"):
@@ -397,7 +383,7 @@ def _propose(c: _Compiled, oid: str, rng: np.random.Generator, k: int,
     out: tuple[np.ndarray, np.ndarray] | None = None
     if parent is not None and (hint.near is not None or not snapped):
         tp = poses[parent]
-        if hint.near in ("beside", "left", "right", "behind"):
+        if hint.near in ("beside", "left", "right", "back"):
             yaw = np.full(k, tp.yaw)  # side by side, facing the same way
         pos = _near_target(rng, k, hint.near, tp, c.half[parent], half, yaw)
         out = _snap_nearest_wall(room, pos, half) if snapped else (pos, yaw)
@@ -501,7 +487,7 @@ def rule_aware_layout(
       into the room;
     * a rule with ``start.parent`` set (``next_to``, ``in_front_of``, ...):
       dropped near its target at random, on the side the hint's ``place``
-      names (``beside``, ``left``, ``right``, ``front``, ``behind``; all
+      names (``beside``, ``left``, ``right``, ``front``, ``back``; all
       around otherwise), then against the nearest wall if a wall or corner
       hint asks;
     * ``place="middle"``, ``"window"``, ``"door"`` — a random point of the

@@ -358,8 +358,10 @@ def _near_target(rng: np.random.Generator, k: int, where: str | None, tp: Pose,
         u = np.repeat((fq if where == "front" else -fq)[None], k, axis=0)
         gap, jitter = rng.uniform(0.05, 0.6, k), rng.normal(0.0, 0.15, k)
     elif where in ("beside", "left", "right"):
-        side = {"left": -np.ones(k), "right": np.ones(k)}.get(
-            where, np.where(rng.random(k) < 0.5, -1.0, 1.0))  # type: ignore[arg-type]
+        if where == "beside":
+            side = np.where(rng.random(k) < 0.5, -1.0, 1.0)
+        else:
+            side = np.full(k, -1.0 if where == "left" else 1.0)
         u = side[:, None] * rq[None]
         gap, jitter = rng.uniform(0.01, 0.12, k), rng.normal(0.0, 0.05, k)
     else:
@@ -467,7 +469,7 @@ def _place_rest(plan: Plan, floor: dict[str, Pose], rng: np.random.Generator
 
 
 def rule_aware_layout(
-    plan: Plan,
+    plan: Plan | str | dict[str, Any],
     seed: int | np.random.Generator = 0,
     *,
     draws: int = 64,
@@ -501,7 +503,7 @@ def rule_aware_layout(
 
     Parameters
     ----------
-    plan : Plan
+    plan : Plan, path, JSON text, dict or bundled plan name
     seed : int or numpy.random.Generator
         Same plan and seed, same layout.
     draws : int
@@ -513,9 +515,12 @@ def rule_aware_layout(
         ``report.missing`` (and ``report.failures``) name objects without a
         free spot; the layout is not checked nor judged.
     """
+    from forcelayout import load_plan
+
     if draws < 1:
         raise ValueError(f"draws must be >= 1, got {draws}")
-    return _draw(_compile(plan), _rng(seed), draws, seed if isinstance(seed, int) else 0)
+    return _draw(_compile(load_plan(plan)), _rng(seed), draws,
+                 seed if isinstance(seed, int) else 0)
 
 
 def _draw(c: _Compiled, rng: np.random.Generator, draws: int, seed: int) -> Layout:

@@ -47,15 +47,18 @@ from forcelayout import rules as registry
 from forcelayout.geometry import RoomGeometry
 from forcelayout.layout import Layout, Pose, SampleReport
 from forcelayout.plan import Plan
+from forcelayout.rules.base import StartHint
 
 if TYPE_CHECKING:
     from forcelayout.rules.base import Rule
 
 __all__ = ["random_layout", "rule_aware_layout", "rejection_sample", "RejectionResult"]
 
-#: Start places relative to the room and relative to the target (see StartHint.place).
+#: Start places relative to the room (see StartHint.place); the others are relative to the
+#: target: a side of it, or (a place that names no side, such as a rug's) centred on it.
 _ROOM_PLACES = frozenset({"wall", "corner", "middle", "window", "door"})
-_TARGET_PLACES = frozenset({"beside", "left", "right", "front", "back"})
+_SIDE_PLACES = frozenset({"beside", "left", "right", "front", "back"})
+_TARGET_PLACES = StartHint.PLACES - _ROOM_PLACES
 #: Gap a wall-snapped footprint keeps from its wall, metres (the at_wall check allows 0.05).
 _WALL_GAP = 0.005
 
@@ -351,7 +354,8 @@ def _random_corner(c: _Compiled, rng: np.random.Generator, k: int, half: np.ndar
 
 def _near_target(rng: np.random.Generator, k: int, where: str | None, tp: Pose,
                  thalf: np.ndarray, half: np.ndarray, yaw: np.ndarray) -> np.ndarray:
-    """``k`` centres near a placed target: on the side ``where`` asks, else all around."""
+    """``k`` centres near a placed target: on the side ``where`` asks, centred on it for a
+    target place that names no side, all around it for none."""
     fq = np.array([-math.sin(tp.yaw), math.cos(tp.yaw)])
     rq = np.array([math.cos(tp.yaw), math.sin(tp.yaw)])
     if where in ("front", "back"):
@@ -364,6 +368,8 @@ def _near_target(rng: np.random.Generator, k: int, where: str | None, tp: Pose,
             side = np.full(k, -1.0 if where == "left" else 1.0)
         u = side[:, None] * rq[None]
         gap, jitter = rng.uniform(0.01, 0.12, k), rng.normal(0.0, 0.05, k)
+    elif where is not None:  # centred on the target (a cover under it)
+        return np.array([tp.x, tp.y]) + rng.normal(0.0, 0.05, (k, 2))
     else:
         ang = rng.uniform(-math.pi, math.pi, k)
         u = np.stack([np.cos(ang), np.sin(ang)], axis=1)
@@ -385,8 +391,8 @@ def _propose(c: _Compiled, oid: str, rng: np.random.Generator, k: int,
     out: tuple[np.ndarray, np.ndarray] | None = None
     if parent is not None and (hint.near is not None or not snapped):
         tp = poses[parent]
-        if hint.near in ("beside", "left", "right", "back"):
-            yaw = np.full(k, tp.yaw)  # side by side, facing the same way
+        if hint.near is not None and hint.near != "front":
+            yaw = np.full(k, tp.yaw)  # side by side (or under it), facing the same way
         pos = _near_target(rng, k, hint.near, tp, c.half[parent], half, yaw)
         out = _snap_nearest_wall(room, pos, half) if snapped else (pos, yaw)
     elif "corner" in places:
@@ -489,9 +495,10 @@ def rule_aware_layout(
       into the room;
     * a rule with ``start.parent`` set (``next_to``, ``in_front_of``, ...):
       dropped near its target at random, on the side the hint's ``place``
-      names (``beside``, ``left``, ``right``, ``front``, ``back``; all
-      around otherwise), then against the nearest wall if a wall or corner
-      hint asks;
+      names (``beside``, ``left``, ``right``, ``front``, ``back``), centred
+      on it for a target place that names no side (a rug ``under`` a table),
+      all around it otherwise; then against the nearest wall if a wall or
+      corner hint asks;
     * ``place="middle"``, ``"window"``, ``"door"`` — a random point of the
       room's middle, or within 1.4 m of a random window or door;
     * anything else — uniform in the floor polygon; headings are random

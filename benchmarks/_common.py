@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 import forcelayout as fl
-from forcelayout import metrics
+from forcelayout import baselines, metrics
 from forcelayout.sampling import sample_seed
 
 #: Conditions of the paper's Tables I and II.
@@ -50,7 +50,7 @@ def draw(plan: fl.Plan, condition: str, seed: int) -> Sample:
     """Draw one raw sample of ``plan`` under ``condition``, timing it in CPU seconds.
 
     Full, −Relations and −Decor use :func:`forcelayout.solve` (which runs the
-    deterministic checks); Random uses :func:`forcelayout.metrics.random_layout`
+    deterministic checks); Random uses :func:`forcelayout.baselines.random_layout`
     judged by :func:`forcelayout.validate.check_layout`. A sample that raises
     counts as invalid, with the error as its failure.
     """
@@ -61,7 +61,7 @@ def draw(plan: fl.Plan, condition: str, seed: int) -> Sample:
         if condition == "Random":
             from forcelayout.validate import check_layout
 
-            lay = metrics.random_layout(plan, seed)
+            lay = baselines.random_layout(plan, seed)
             failures = list(check_layout(lay).failures)
             lay.report.valid = not failures
             lay.report.failures = failures

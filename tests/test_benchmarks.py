@@ -73,7 +73,32 @@ def test_scaling_quick(tmp_path: Path) -> None:
     assert png.read_bytes()[:4] == b"\x89PNG"
 
 
-@pytest.mark.parametrize("script", ["paper_tables.py", "scaling.py"])
+def test_suite_quick(tmp_path: Path) -> None:
+    """The plan suite runs forcelayout and the rejection baseline side by side."""
+    out = tmp_path / "suite.json"
+    result, rest = run("suite.py", "--quick", "--jobs", "1", "--plans", "bedroom",
+                       str(tmp_path / "missing.json"), "--markdown", "--out", str(out))
+    assert result["benchmark"] == "suite"
+    assert result["config"]["samples"] == 3 and result["config"]["baseline_tries"] == 60
+    row, bad = result["plans"]
+    assert row["plan"] == "bedroom" and row["objects"] == 11 and 0 < row["fill_pct"] < 60
+    f, b = row["forcelayout"], row["baseline"]
+    assert f["samples"] == 3 and 0 <= f["yield_pct"] <= 100
+    assert 1 <= b["tries"] <= 60 and b["accepted"] <= 3
+    for side in (f, b):
+        for key in ("good_per_s", "geometric", "topological", "failures"):
+            assert key in side
+    assert set(row["targets"]) == {"yield", "not_below_baseline", "diversity", "speed"}
+    assert "error" in bad and "missing" in bad["error"]  # an error row, not a crash
+    o = result["overall"]
+    assert o["plans"] == 2 and o["errors"] == 1
+    assert set(o["targets"]) == {"yield_each", "yield_mean", "not_below_baseline",
+                                 "diversity", "speed_each", "speed_suite"}
+    assert "| bedroom | 11 |" in rest and "| **overall** |" in rest and "Targets" in rest
+    assert json.loads(out.read_text()) == result
+
+
+@pytest.mark.parametrize("script", ["paper_tables.py", "scaling.py", "suite.py"])
 def test_scripts_reject_bad_arguments(script: str) -> None:
     bad = ["--n", "0"] if script == "paper_tables.py" else ["--samples", "0"]
     proc = subprocess.run([sys.executable, str(BENCH / script), *bad], capture_output=True,

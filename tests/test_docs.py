@@ -48,6 +48,7 @@ PUBLIC_MODULES = (
     "forcelayout.diagnose",
     "forcelayout.render",
     "forcelayout.metrics",
+    "forcelayout.baselines",
     "forcelayout.testing",
     "forcelayout.examples",
     "forcelayout.errors",

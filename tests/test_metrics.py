@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 
 from forcelayout import Layout, Plan, Pose
 from forcelayout import metrics as M
-from forcelayout.geometry import RoomGeometry, box_corners, box_separation
+from forcelayout import rules as registry
+from forcelayout.baselines import random_layout
 
 ROOM = {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]], "height": 2.7,
         "doors": [{"wall": 0, "offset": 1.0, "width": 0.9}],
@@ -129,7 +130,7 @@ def test_geometric_rejects_bad_weights(bedroom: Plan) -> None:
 def test_dissimilarities_symmetric_and_bounded(s1: int, s2: int) -> None:
     plan = make_plan([("bed", "bed", [1.4, 2.0, 0.5]), ("c1", "chair", [0.5, 0.5, 0.9]),
                       ("c2", "chair", [0.5, 0.5, 0.9]), ("desk", "desk", [1.2, 0.6, 0.75])])
-    a, b = M.random_layout(plan, s1), M.random_layout(plan, s2)
+    a, b = random_layout(plan, s1), random_layout(plan, s2)
     for fn in (M.geometric_dissimilarity, M.topological_dissimilarity,
                M.relational_dissimilarity):
         d = fn(a, b)
@@ -187,13 +188,105 @@ def test_occupancy_masks_of_different_rooms_align() -> None:
 def test_relation_triples_by_hand(bedroom: Plan) -> None:
     t = M.relation_triples(bedroom_layout(bedroom))
     for triple in [("bed", "at_wall", "room"), ("nightstand", "at_wall", "room"),
-                   ("bed", "next_to", "nightstand"), ("lamp", "on_top", "nightstand"),
-                   ("nightstand", "near_window", "window"), ("bed", "near", "chair"),
-                   ("chair", "facing", "nightstand")]:
+                   ("bed", "next_to", "nightstand"), ("nightstand", "next_to", "bed"),
+                   ("lamp", "on_top", "nightstand"), ("nightstand", "near_window", "room"),
+                   ("bed", "near", "chair"), ("chair", "facing", "nightstand")]:
         assert triple in t, triple
     assert ("bed", "facing", "chair") not in t  # 41° off the bed's front (-y)
+    assert ("bed", "next_to", "chair") not in t  # 0.55 m apart
     assert not any(r == "on_top" and a != "lamp" for a, r, _ in t)
-    assert all(r in M.RELATIONS for _, r, _ in t)
+    assert {r for _, r, _ in t} <= set(M.relation_rules())
+
+
+def test_relations_come_from_the_registry() -> None:
+    vocab = M.relation_rules()
+    assert vocab == M.RELATIONS
+    for name, summary in vocab.items():
+        cls = type(registry.get_rule(name))
+        assert cls.relation and summary == cls.summary()
+    relational = {n for n in registry.available_rules()
+                  if getattr(type(registry.get_rule(n)), "relation", False)}
+    assert set(vocab) == relational
+    assert "far_from" not in vocab  # declares relation = False
+
+
+def test_a_plugin_relation_joins_the_vocabulary(bedroom: Plan) -> None:
+    @registry.register("metrics_test_left_half")
+    class LeftHalf(registry.Rule):
+        """In the left half of the room's bounding box."""
+
+        relation = True
+
+        def force(self, state, i, j, p):
+            return np.zeros((len(i), 2)), np.zeros(len(i))
+
+        def satisfied(self, state, i, j, p):
+            mid = 0.5 * (state.room.bounds[0] + state.room.bounds[2])
+            return state.pos[i, 0] < mid
+
+    @registry.register("metrics_test_touching")
+    class Touching(registry.Rule):
+        """Footprint gap at most 0.1 m."""
+
+        target = "required"
+        relation = True
+
+        def force(self, state, i, j, p):
+            return np.zeros((len(i), 2)), np.zeros(len(i))
+
+        def satisfied(self, state, i, j, p):
+            return state.gap(i, j) <= 0.1
+
+    try:
+        assert "metrics_test_left_half" in M.RELATIONS
+        t = M.relation_triples(bedroom_layout(bedroom))
+        assert ("nightstand", "metrics_test_left_half", "room") in t  # ns_1 at x = 1.05
+        assert ("bed", "metrics_test_left_half", "room") not in t  # centre at x = 2.0
+        assert ("nightstand", "metrics_test_touching", "bed") in t  # 0.05 m apart
+        assert ("bed", "metrics_test_touching", "nightstand") in t
+        assert not any(r == "metrics_test_touching" and "chair" in (a, b) for a, r, b in t)
+    finally:
+        registry.unregister("metrics_test_left_half")
+        registry.unregister("metrics_test_touching")
+    assert "metrics_test_left_half" not in M.relation_rules()
+
+
+def test_off_floor_relations() -> None:
+    plan = Plan.model_validate({
+        "name": "t", "room": ROOM,
+        "objects": [{"id": "desk", "category": "desk", "size": [1.2, 0.6, 0.75]},
+                    {"id": "art", "category": "poster", "size": [0.8, 0.05, 0.6]},
+                    {"id": "light", "category": "light", "size": [0.4, 0.4, 0.1]}]})
+    lay = Layout(plan, {"desk": Pose(2.0, 0.3, 0.0),
+                        "art": Pose(2.0, 0.025, 0.0, 1.2, "wall:0"),
+                        "light": Pose(2.0, 1.5, 0.0, 2.6, "ceiling")})
+    t = M.relation_triples(lay)
+    assert ("painting", "on_wall", "room") in t
+    assert ("painting", "on_wall_mid", "room") in t  # bottom 1.2 m, top 1.8 m
+    assert ("light", "on_ceiling", "room") in t
+    assert not any(a in ("painting", "light") and r in ("at_wall", "next_to", "near")
+                   for a, r, _ in t)  # floor rules judge floor objects only
+    assert ("desk", "at_wall", "room") in t
+
+
+def test_metrics_name_no_builtin_rule() -> None:
+    """The metrics read rule meaning from the registry, never from built-in rule names."""
+    import re
+    from pathlib import Path
+
+    import forcelayout.metrics
+
+    names = "|".join(registry.available_rules())
+    literal = re.compile(rf"[\"']({names})[\"']")
+    for path in Path(forcelayout.metrics.__file__).parent.glob("*.py"):
+        hits = literal.findall(path.read_text(encoding="utf-8"))
+        assert not hits, f"{path.name} names rules {hits}"
+
+
+def test_random_layout_moved_with_a_warning(bedroom: Plan) -> None:
+    with pytest.warns(DeprecationWarning, match="forcelayout.baselines"):
+        old = M.random_layout
+    assert old(bedroom, 0) == random_layout(bedroom, 0)
 
 
 def test_relational_identical_and_changed(bedroom: Plan) -> None:
@@ -217,7 +310,7 @@ def test_jaccard_distance(a: set, b: set, d: float) -> None:
 
 @pytest.mark.parametrize("metric", ["geometric", "topological", "relational"])
 def test_pairwise_matches_the_pair_functions(bedroom: Plan, metric: str) -> None:
-    layouts = [M.random_layout(bedroom, s) for s in range(4)]
+    layouts = [random_layout(bedroom, s) for s in range(4)]
     d = M.pairwise(layouts, metric)
     fn = {"geometric": M.geometric_dissimilarity, "topological": M.topological_dissimilarity,
           "relational": M.relational_dissimilarity}[metric]
@@ -289,37 +382,3 @@ def test_bootstrap_edge_cases() -> None:
         M.bootstrap_ci([1.0], level=95)
     with pytest.raises(ValueError, match="n_resamples"):
         M.bootstrap_ci([1.0], n_resamples=0)
-
-
-# -- Random baseline ----------------------------------------------------------------
-
-def test_random_layout_inside_cardinal_and_seeded(bedroom: Plan) -> None:
-    room = RoomGeometry.from_room(bedroom.room)
-    a = M.random_layout(bedroom, 3)
-    assert a == M.random_layout(bedroom, 3)
-    assert a != M.random_layout(bedroom, 4)
-    ids = [i for i in bedroom.ids if a.poses[i].surface == "floor"]
-    pos = np.array([[a.poses[i].x, a.poses[i].y] for i in ids])
-    yaw = np.array([a.poses[i].yaw for i in ids])
-    half = np.array([bedroom.object(i).size[:2] for i in ids]) / 2
-    c = box_corners(pos, yaw, half)
-    assert room.contains(c).all()
-    assert np.allclose(np.mod(yaw, math.pi / 2), 0.0)
-    sep = box_separation(c[:, None], c[None])
-    assert (sep[np.triu_indices(len(ids), 1)] > 0).all()  # rejection: no overlaps
-
-
-def test_random_layout_places_off_floor_objects() -> None:
-    plan = Plan.model_validate({
-        "name": "t", "room": ROOM,
-        "objects": [{"id": "desk", "category": "desk", "size": [1.2, 0.6, 0.75]},
-                    {"id": "lamp", "category": "lamp", "size": [0.2, 0.2, 0.3]},
-                    {"id": "light", "category": "light", "size": [0.4, 0.4, 0.1]}],
-        "rules": [{"rule": "on_top", "object": "lamp", "target": "desk"},
-                  {"rule": "on_ceiling", "object": "light"}],
-    })
-    lay = M.random_layout(plan, 0)
-    assert lay.poses["lamp"].surface == "desk"
-    assert lay.poses["lamp"].z == pytest.approx(0.75)
-    assert lay.poses["light"].surface == "ceiling"
-    assert ("lamp", "on_top", "desk") in M.relation_triples(lay)

@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from forcelayout import Layout, Plan, Pose
-from forcelayout.metrics import random_layout
+from forcelayout.baselines import random_layout
 from forcelayout.testing import plans
 from forcelayout.validate import CHECKS, CheckReport, check_layout, occupancy_mask, window_zones
 

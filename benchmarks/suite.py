@@ -1,0 +1,384 @@
+"""A plan suite, forcelayout side by side with the rule-aware rejection baseline.
+
+For each plan (default: every ``benchmarks/plans/*.json``; the bundled plans
+when that folder is empty), in one worker process:
+
+* **forcelayout** — ``--samples`` raw samples ``forcelayout.solve(plan,
+  sample_seed(seed, k))``; a sample is *good* when it passes the
+  deterministic checks AND meets >= 95 % of its rules. Reported: good yield
+  per raw sample, good layouts per CPU second of one core, the geometric and
+  topological intra-plan diversity of the good layouts
+  (:mod:`forcelayout.metrics`), the share of samples whose report says they
+  were repaired, and failure counts;
+* **baseline** — :func:`forcelayout.baselines.rejection_sample` with the same
+  seed, until ``--samples`` layouts are accepted or ``--baseline-tries``
+  tries are spent: yield per try, good layouts per CPU second, diversity.
+
+Then per plan and overall, the targets of the robustness issue as pass/fail:
+good yield >= 90 % on every plan where the baseline finds a good layout
+(mean >= 95 %), never below the baseline's yield, diversity >= 0.95 x the
+baseline's, good layouts/s >= the baseline's on every plan of >= 10 objects
+and >= 3 x over the suite. A plan that fails to load or run is an error row.
+
+Usage::
+
+    python benchmarks/suite.py [--plans bedroom living_room my_plans/ x.json]
+        [--samples 30] [--baseline-tries 2000] [--jobs 2] [--quick]
+        [--markdown] [--out suite.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+import traceback
+from collections import Counter
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _common import default_jobs, dump, jsonable  # noqa: E402
+
+import forcelayout as fl  # noqa: E402
+from forcelayout import metrics  # noqa: E402
+from forcelayout import rules as registry  # noqa: E402
+from forcelayout.baselines import rejection_sample  # noqa: E402
+from forcelayout.sampling import sample_seed  # noqa: E402
+
+PLANS_DIR = Path(__file__).resolve().parent / "plans"
+#: A sample that passes the checks and meets at least this fraction of its rules is good.
+GOOD_RULES = 0.95
+#: Targets (robustness issue): yield on every solvable plan, mean yield, diversity ratio,
+#: speed ratio over the suite, and the plan size from which speed is compared per plan.
+YIELD_EACH, YIELD_MEAN, DIVERSITY_RATIO, SPEED_SUITE, SPEED_MIN_OBJECTS = 0.90, 0.95, 0.95, 3.0, 10
+
+
+# -- one plan -----------------------------------------------------------------------------
+
+
+def floor_fill(plan: fl.Plan) -> float:
+    """Footprint of the floor obstacles over the floor area, in [0, 1].
+
+    Objects placed off the floor by their rules and walkable covers (rugs) are
+    not counted.
+    """
+    off = {s.object for s in plan.rules if type(registry.get_rule(s.rule)).surface != "floor"}
+    area = sum(o.size[0] * o.size[1] for o in plan.objects
+               if o.id not in off and not o.is_walkable)
+    return area / plan.room.shape.area
+
+
+def diversity(layouts: list[fl.Layout], pairs_of: int) -> dict[str, float | None]:
+    """Geometric and topological intra-plan diversity of at most ``pairs_of`` layouts."""
+    keep = layouts[:pairs_of]
+    return {m: (metrics.intra_plan(keep, m) if len(keep) >= 2 else None)
+            for m in ("geometric", "topological")}
+
+
+def run_forcelayout(plan: fl.Plan, samples: int, seed: int, pairs_of: int) -> dict[str, Any]:
+    """Raw samples of the method, judged as the baseline is judged."""
+    fl.solve(plan, 2**62)  # warm imports and caches outside the measured samples
+    good: list[fl.Layout] = []
+    checks_ok = rules = repaired = 0
+    repaired_known = False
+    reasons: Counter[str] = Counter()
+    t0 = time.process_time()
+    for k in range(samples):
+        lay = fl.solve(plan, sample_seed(seed, k))
+        rep = lay.report
+        failures = [f for f in rep.failures if not f.startswith("rules:")]
+        ok = not failures
+        checks_ok += ok
+        rules += rep.rule_satisfaction
+        if ok and rep.rule_satisfaction >= GOOD_RULES:
+            good.append(lay)
+        reasons.update({f.split(":", 1)[0] for f in rep.failures})
+        flag = getattr(rep, "repaired", None)
+        if flag is not None:
+            repaired_known = True
+            repaired += bool(flag)
+    cpu = time.process_time() - t0
+    return {
+        "samples": samples,
+        "good": len(good),
+        "yield_pct": 100.0 * len(good) / samples,
+        "valid_pct": 100.0 * checks_ok / samples,
+        "rules_pct": 100.0 * rules / samples,
+        "good_per_s": len(good) / cpu if cpu > 0 else None,
+        "ms_per_sample": 1000.0 * cpu / samples,
+        "repaired_pct": 100.0 * repaired / samples if repaired_known else None,
+        **diversity(good, pairs_of),
+        "failures": dict(reasons.most_common()),
+    }
+
+
+def run_baseline(plan: fl.Plan, samples: int, tries: int, seed: int, pairs_of: int
+                 ) -> dict[str, Any]:
+    """The rule-aware rejection sampler with the same seed."""
+    rejection_sample(plan, 1, seed=2**62, max_tries=1)  # warm imports and caches
+    t0 = time.process_time()
+    res = rejection_sample(plan, samples, seed=seed, max_tries=tries)
+    cpu = time.process_time() - t0
+    return {
+        "tries": res.tries,
+        "accepted": len(res),
+        "yield_pct": 100.0 * res.yield_per_try if res.tries else None,
+        "good_per_s": len(res) / cpu if cpu > 0 else None,
+        "ms_per_try": 1000.0 * cpu / res.tries if res.tries else None,
+        **diversity(res.layouts, pairs_of),
+        "failures": dict(sorted(res.failures.items(), key=lambda kv: -kv[1])),
+    }
+
+
+def plan_targets(row: dict[str, Any]) -> dict[str, bool | None]:
+    """Pass/fail of one plan against the targets (None where a target does not apply)."""
+    f, b = row["forcelayout"], row["baseline"]
+    solvable = b["accepted"] > 0
+    out: dict[str, bool | None] = {
+        "yield": (f["yield_pct"] >= 100 * YIELD_EACH) if solvable else None,
+        "not_below_baseline": (f["yield_pct"] >= b["yield_pct"]
+                               if b["yield_pct"] is not None else None),
+    }
+    div = []
+    for m in ("geometric", "topological"):
+        if b[m] is not None:
+            div.append(f[m] is not None and f[m] >= DIVERSITY_RATIO * b[m])
+    out["diversity"] = all(div) if div else None
+    if row["objects"] >= SPEED_MIN_OBJECTS and solvable:
+        out["speed"] = (f["good_per_s"] or 0.0) >= (b["good_per_s"] or 0.0)
+    else:
+        out["speed"] = None
+    return out
+
+
+def bench_plan(source: str, samples: int, tries: int, seed: int, pairs_of: int
+               ) -> dict[str, Any]:
+    """Everything measured on one plan; an error becomes an error row."""
+    try:
+        plan = fl.load_plan(source)
+        row: dict[str, Any] = {
+            "plan": plan.name,
+            "source": source,
+            "objects": len(plan.objects),
+            "fill_pct": 100.0 * floor_fill(plan),
+            "forcelayout": run_forcelayout(plan, samples, seed, pairs_of),
+            "baseline": run_baseline(plan, samples, tries, seed, pairs_of),
+        }
+        row["targets"] = plan_targets(row)
+        return row
+    except Exception as e:  # one bad plan must not stop the suite
+        return {"plan": Path(source).stem, "source": source,
+                "error": f"{type(e).__name__}: {e}",
+                "traceback": traceback.format_exc(limit=4)}
+
+
+# -- the suite ----------------------------------------------------------------------------
+
+
+def resolve_plans(specs: list[str] | None) -> list[str]:
+    """Plan sources from names, files and folders (every ``*.json`` in a folder)."""
+    if not specs:
+        found = sorted(PLANS_DIR.glob("*.json")) if PLANS_DIR.is_dir() else []
+        if found:
+            return [str(p) for p in found]
+        print(f"suite: no plans in {PLANS_DIR}; using the bundled plans", file=sys.stderr)
+        return fl.examples.list_plans()
+    out: list[str] = []
+    for spec in specs:
+        p = Path(spec)
+        if p.is_dir():
+            out.extend(str(q) for q in sorted(p.glob("*.json")))
+        else:
+            out.append(spec)
+    return out
+
+
+def run_all(sources: list[str], args: argparse.Namespace) -> list[dict[str, Any]]:
+    task = (args.samples, args.baseline_tries, args.seed, args.pairs_of)
+    if args.jobs <= 1 or len(sources) <= 1:
+        return [bench_plan(s, *task) for s in sources]
+    rows: list[dict[str, Any]] = []
+    with ProcessPoolExecutor(max_workers=args.jobs) as ex:
+        futures = [ex.submit(bench_plan, s, *task) for s in sources]
+        for s, fut in zip(sources, futures, strict=True):
+            try:
+                rows.append(fut.result())
+            except (BrokenProcessPool, Exception) as e:  # a worker died (e.g. out of memory)
+                rows.append({"plan": Path(s).stem, "source": s,
+                             "error": f"{type(e).__name__}: {e}"})
+    return rows
+
+
+def _mean(values: list[float | None]) -> float | None:
+    v = [x for x in values if x is not None and math.isfinite(x)]
+    return float(np.mean(v)) if v else None
+
+
+def overall(rows: list[dict[str, Any]]) -> dict[str, Any]:
+    """Suite means and the suite-wide targets."""
+    ok = [r for r in rows if "error" not in r]
+    f = [r["forcelayout"] for r in ok]
+    b = [r["baseline"] for r in ok]
+    solvable = [r for r in ok if r["baseline"]["accepted"] > 0]
+    f_good = sum(x["good"] for x in f)
+    f_cpu = sum(x["samples"] * x["ms_per_sample"] / 1000 for x in f)
+    b_good = sum(x["accepted"] for x in b)
+    b_cpu = sum(x["tries"] * (x["ms_per_try"] or 0.0) / 1000 for x in b)
+    f_rate = f_good / f_cpu if f_cpu > 0 else None
+    b_rate = b_good / b_cpu if b_cpu > 0 else None
+    mean_solvable = _mean([r["forcelayout"]["yield_pct"] for r in solvable])
+
+    def every(key: str) -> bool | None:
+        v = [r["targets"][key] for r in ok if r["targets"][key] is not None]
+        return all(v) if v else None
+
+    targets = {
+        "yield_each": every("yield"),
+        "yield_mean": (mean_solvable >= 100 * YIELD_MEAN) if mean_solvable is not None else None,
+        "not_below_baseline": every("not_below_baseline"),
+        "diversity": every("diversity"),
+        "speed_each": every("speed"),
+        "speed_suite": (f_rate >= SPEED_SUITE * b_rate) if f_rate and b_rate else None,
+    }
+    return {
+        "plans": len(rows),
+        "errors": len(rows) - len(ok),
+        "baseline_solvable": len(solvable),
+        "objects": _mean([r["objects"] for r in ok]),
+        "fill_pct": _mean([r["fill_pct"] for r in ok]),
+        "forcelayout": {
+            "yield_pct": _mean([x["yield_pct"] for x in f]),
+            "yield_pct_solvable": mean_solvable,
+            "good_per_s": f_rate,
+            "geometric": _mean([x["geometric"] for x in f]),
+            "topological": _mean([x["topological"] for x in f]),
+            "repaired_pct": _mean([x["repaired_pct"] for x in f]),
+        },
+        "baseline": {
+            "yield_pct": _mean([x["yield_pct"] for x in b]),
+            "good_per_s": b_rate,
+            "geometric": _mean([x["geometric"] for x in b]),
+            "topological": _mean([x["topological"] for x in b]),
+        },
+        "speed_ratio": f_rate / b_rate if f_rate and b_rate else None,
+        "targets": targets,
+    }
+
+
+# -- output -------------------------------------------------------------------------------
+
+
+def _num(x: Any, digits: int = 1) -> str:
+    return "–" if x is None or (isinstance(x, float) and not math.isfinite(x)) \
+        else f"{x:.{digits}f}"
+
+
+def _mark(v: bool | None) -> str:
+    return "–" if v is None else ("pass" if v else "FAIL")
+
+
+def markdown(result: dict[str, Any]) -> str:
+    head = ("| plan | objects | fill % | good % FL | good % BL | good/s FL | good/s BL "
+            "| geo FL | geo BL | topo FL | topo BL | repaired % | yield | ≥ BL | diversity "
+            "| speed |")
+    lines = [head, "|" + "---|" * (head.count("|") - 1)]
+    for r in result["plans"]:
+        if "error" in r:
+            err = " ".join(r["error"].split()).replace("|", "/")
+            lines.append(f"| {r['plan']} | error: {err[:100]} |" + " |" * 14)
+            continue
+        f, b, t = r["forcelayout"], r["baseline"], r["targets"]
+        lines.append(
+            f"| {r['plan']} | {r['objects']} | {_num(r['fill_pct'], 0)} "
+            f"| {_num(f['yield_pct'], 0)} | {_num(b['yield_pct'], 1)} "
+            f"| {_num(f['good_per_s'])} | {_num(b['good_per_s'])} "
+            f"| {_num(f['geometric'], 3)} | {_num(b['geometric'], 3)} "
+            f"| {_num(f['topological'], 3)} | {_num(b['topological'], 3)} "
+            f"| {_num(f['repaired_pct'], 0)} | {_mark(t['yield'])} "
+            f"| {_mark(t['not_below_baseline'])} | {_mark(t['diversity'])} "
+            f"| {_mark(t['speed'])} |")
+    o = result["overall"]
+    fo, bo, to = o["forcelayout"], o["baseline"], o["targets"]
+    lines.append(
+        f"| **overall** | {_num(o['objects'])} | {_num(o['fill_pct'], 0)} "
+        f"| {_num(fo['yield_pct'], 0)} | {_num(bo['yield_pct'], 1)} "
+        f"| {_num(fo['good_per_s'])} | {_num(bo['good_per_s'])} "
+        f"| {_num(fo['geometric'], 3)} | {_num(bo['geometric'], 3)} "
+        f"| {_num(fo['topological'], 3)} | {_num(bo['topological'], 3)} "
+        f"| {_num(fo['repaired_pct'], 0)} | {_mark(to['yield_each'])} "
+        f"| {_mark(to['not_below_baseline'])} | {_mark(to['diversity'])} "
+        f"| {_mark(to['speed_each'])} |")
+    lines += [
+        "",
+        f"Targets over {o['plans']} plans ({o['errors']} errors; the baseline solves "
+        f"{o['baseline_solvable']}):",
+        f"- good yield ≥ {YIELD_EACH:.0%} on every plan the baseline solves: "
+        f"{_mark(to['yield_each'])}; mean ≥ {YIELD_MEAN:.0%} there "
+        f"({_num(fo['yield_pct_solvable'])} %): {_mark(to['yield_mean'])}",
+        f"- never below the baseline's yield: {_mark(to['not_below_baseline'])}",
+        f"- diversity ≥ {DIVERSITY_RATIO} × the baseline's on every plan: "
+        f"{_mark(to['diversity'])}",
+        f"- good/s ≥ the baseline's on every plan of ≥ {SPEED_MIN_OBJECTS} objects: "
+        f"{_mark(to['speed_each'])}; ≥ {SPEED_SUITE:g} × over the suite "
+        f"({_num(o['speed_ratio'], 2)} ×): {_mark(to['speed_suite'])}",
+    ]
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--plans", nargs="*", default=None,
+                    help="bundled plan names, plan JSON files or folders of them "
+                         f"(default: {PLANS_DIR.name}/*.json)")
+    ap.add_argument("--samples", type=int, default=30,
+                    help="raw forcelayout samples per plan, and layouts the baseline is asked "
+                         "for (default 30)")
+    ap.add_argument("--baseline-tries", type=int, default=2000,
+                    help="most tries of the rejection baseline per plan (default 2000)")
+    ap.add_argument("--pairs-of", type=int, default=30,
+                    help="diversity over at most this many good layouts per plan (default 30)")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--jobs", type=int, default=None,
+                    help=f"worker processes over plans (default {default_jobs()})")
+    ap.add_argument("--quick", action="store_true",
+                    help="3 samples, 60 baseline tries: a smoke run")
+    ap.add_argument("--markdown", action="store_true", help="also print a Markdown table")
+    ap.add_argument("--out", default=None, help="also write the JSON to this file")
+    args = ap.parse_args(argv)
+    if args.quick:
+        args.samples, args.baseline_tries = min(args.samples, 3), min(args.baseline_tries, 60)
+    for name in ("samples", "baseline_tries", "pairs_of"):
+        if getattr(args, name) < 1:
+            ap.error(f"--{name.replace('_', '-')} must be >= 1")
+    if args.jobs is None:
+        args.jobs = default_jobs()
+    if args.jobs < 1:
+        ap.error("--jobs must be >= 1")
+    sources = resolve_plans(args.plans)
+    t0 = time.perf_counter()
+    rows = run_all(sources, args)
+    result = {
+        "benchmark": "suite",
+        "forcelayout": fl.__version__,
+        "config": {"plans": [r["plan"] for r in rows], "samples": args.samples,
+                   "baseline_tries": args.baseline_tries, "pairs_of": args.pairs_of,
+                   "seed": args.seed, "jobs": args.jobs, "good_rules": GOOD_RULES},
+        "plans": rows,
+        "overall": overall(rows),
+        "wall_seconds": time.perf_counter() - t0,
+    }
+    dump(jsonable(result), args.out)
+    if args.markdown:
+        print()
+        print(markdown(result))
+
+
+if __name__ == "__main__":
+    main()

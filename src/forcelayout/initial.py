@@ -216,7 +216,7 @@ def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius,
         side[:] = -1.0
     gap = rng.uniform(0.02, 0.1, k)[:, None]
     same = np.full(k, yaw[q])
-    if "under" in places:  # centred under the parent, square with it
+    if "beneath" in places:  # centred under the parent, square with it
         cand = pos[q] + rng.normal(0.0, 0.05, (k, 2))
         return cand, same
     if places & {"front", "back"}:

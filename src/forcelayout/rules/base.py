@@ -60,7 +60,7 @@ class StartHint:
         ``"window"`` / ``"door"`` (near an opening; with ``"wall"``, on a
         wall near it). Relative to the target: ``"beside"`` (either side),
         ``"left"``, ``"right"``, ``"front"``, ``"back"`` (its side of the target),
-        ``"under"`` (centred under the target: a walkable cover).
+        ``"beneath"`` (centred under the target: a walkable cover).
     turn : str, optional
         ``"face_target"`` turns the object's front towards its target;
         ``"target_heading"`` gives it the target's heading.
@@ -80,7 +80,7 @@ class StartHint:
 
     PLACES: ClassVar[frozenset[str]] = frozenset(
         {"wall", "corner", "middle", "window", "door", "beside", "left", "right", "front",
-         "back", "under"})
+         "back", "beneath"})
     TURNS: ClassVar[frozenset[str]] = frozenset({"face_target", "target_heading"})
 
     def __post_init__(self) -> None:

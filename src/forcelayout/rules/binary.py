@@ -401,7 +401,7 @@ class Under(Rule):
     target = "required"
     bond = True
     relation = True
-    start = StartHint(place="under", turn="target_heading", parent=0)
+    start = StartHint(place="beneath", turn="target_heading", parent=0)
     weight = 2.0
 
     class Params(Rule.Params):

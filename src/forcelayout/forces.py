@@ -217,6 +217,8 @@ class ForceModel:
         for g in self.groups:
             if g.j is not None:
                 related[g.i, g.j] = related[g.j, g.i] = True
+        #: Pairs of rows some binding relates (they may stand close).
+        self.related = related
         free = ~related[self.pi, self.pj]
         self.rules = RuleTerm(self.groups, n)
         w_window = self.physical_weights.window

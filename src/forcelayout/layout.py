@@ -85,6 +85,11 @@ class SampleReport:
         Objects of the plan not placed (with the reason), never dropped silently.
     rule_satisfaction : float
         Fraction of judged rule bindings met, in [0, 1].
+    stages : dict of str to float
+        Seconds per stage of the sample.
+    repairs : list of str
+        What each repair round did (see :mod:`forcelayout.repair`); empty
+        when the sample needed none.
     """
 
     seed: int
@@ -96,6 +101,12 @@ class SampleReport:
     missing: list[str] = field(default_factory=list)
     rule_satisfaction: float = 1.0
     stages: dict[str, float] = field(default_factory=dict)
+    repairs: list[str] = field(default_factory=list)
+
+    @property
+    def repaired(self) -> bool:
+        """Whether a repair round changed the sample."""
+        return bool(self.repairs)
 
 
 class Layout:

@@ -96,6 +96,10 @@ class Options:
         Place the floor by the hierarchical path (area variants assembled in
         the room, see :mod:`forcelayout.hierarchy`) instead of one flat
         simulation.
+    repair : int
+        Repair rounds for a floor that fails a check or a rule: only the
+        objects at fault move, in a short simulation (see
+        :mod:`forcelayout.repair`); 0 rejects such samples at once.
     variants : int
         Variants generated per functional area on the hierarchical path.
     variant_seed : int
@@ -109,5 +113,6 @@ class Options:
     check: bool = True
     check_kwargs: dict[str, Any] = field(default_factory=dict)
     hierarchy: bool = False
+    repair: int = 2
     variants: int = 6
     variant_seed: int = 0

@@ -21,6 +21,7 @@ from forcelayout.initial import initial_poses
 from forcelayout.layout import Pose
 from forcelayout.options import Options
 from forcelayout.plan import Plan
+from forcelayout.repair import repair_floor
 from forcelayout.solver import simulate
 from forcelayout.surfaces import check_surfaces, place_surfaces
 
@@ -42,6 +43,8 @@ class Placement:
         ``"<id>: <reason>"`` for each object of the plan that was not placed.
     stages : dict of str to float
         Seconds spent per stage.
+    repairs : list of str
+        What each repair round of the floor did (empty when none was needed).
     """
 
     poses: dict[str, Pose]
@@ -49,6 +52,7 @@ class Placement:
     converged: bool = True
     missing: list[str] = field(default_factory=list)
     stages: dict[str, float] = field(default_factory=dict)
+    repairs: list[str] = field(default_factory=list)
 
 
 _PREPARED: dict[int, Plan] = {}
@@ -74,13 +78,19 @@ def prepare(plan: Plan) -> None:
 
 
 def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options
-                ) -> tuple[dict[str, Pose], int, bool]:
+                ) -> tuple[dict[str, Pose], int, bool, list[str]]:
     model = ForceModel(plan, relations=opts.relations)
     pos0, yaw0 = initial_poses(model, rng)
     res = simulate(model, pos0, yaw0, opts.solver)
+    pos, yaw, steps, repairs = res.pos, res.yaw, res.steps, []
+    if opts.repair > 0 and model.n:
+        pos, yaw, extra, repairs = repair_floor(model, pos, yaw, opts.solver, rounds=opts.repair,
+                                                check_kwargs=opts.check_kwargs)
+        steps += extra
+        yaw = (yaw + np.pi) % (2 * np.pi) - np.pi
     poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
-             for oid, p, y in zip(model.ids, res.pos, res.yaw, strict=True)}
-    return poses, res.steps, res.converged
+             for oid, p, y in zip(model.ids, pos, yaw, strict=True)}
+    return poses, steps, res.converged, repairs
 
 
 def realise(plan: Plan, rng: np.random.Generator, opts: Options) -> Placement:
@@ -104,13 +114,14 @@ def realise(plan: Plan, rng: np.random.Generator, opts: Options) -> Placement:
     prepare(plan)
     t0 = time.perf_counter()
     stages: dict[str, float] = {}
+    repairs: list[str] = []
     if opts.hierarchy:
         floor, steps, converged, stages = sample_floor(plan, rng, opts)
     else:
-        floor, steps, converged = _flat_floor(plan, rng, opts)
+        floor, steps, converged, repairs = _flat_floor(plan, rng, opts)
         stages["floor"] = time.perf_counter() - t0
     surf = place_surfaces(plan, floor, rng, relations=opts.relations,
                           solver=opts.solver)
     stages.update(surf.stages)
     return Placement(surf.poses, steps + surf.steps, converged and surf.converged,
-                     surf.missing, stages)
+                     surf.missing, stages, repairs)

@@ -73,7 +73,8 @@ def solve(
 
     placed = realise(plan, np.random.default_rng(seed), opts)
     report = SampleReport(seed=int(seed), steps=placed.steps, converged=placed.converged,
-                          missing=placed.missing, stages=placed.stages)
+                          missing=placed.missing, stages=placed.stages,
+                          repairs=placed.repairs)
     if placed.missing:
         report.failures.append("missing: " + "; ".join(placed.missing))
     layout = Layout(plan, placed.poses, seed, report)

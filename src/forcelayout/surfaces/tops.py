@@ -94,7 +94,7 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
     res = simulate(model, pos, yaw, plane_solver(cfg))
     out.steps += res.steps
     out.converged &= res.converged
-    fpos, fyaw = res.pos, res.yaw
+    fpos, fyaw = _clamp_inside(res.pos, res.yaw, size, pw, pd)
     if not _fits_rect(fpos, fyaw, size, pw, pd):
         fpos, fyaw = pos, yaw
     if not _fits_rect(fpos, fyaw, size, pw, pd):
@@ -120,7 +120,24 @@ def _min_gap(pos: np.ndarray, yaw: np.ndarray, size: np.ndarray, *, last_only: b
     return float(m[-1].min() if last_only else m.min())
 
 
+def _clamp_inside(pos: np.ndarray, yaw: np.ndarray, size: np.ndarray, w: float, d: float
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """Settled poses moved the last millimetres inside a ``w x d`` top.
+
+    Headings within 0.05 rad of a right angle are squared; each footprint's
+    centre is then clipped so its extents lie inside the top (where they fit).
+    The simulation's walls stop an object at the edge, not always a hair
+    inside it.
+    """
+    quarter = np.round(yaw / (np.pi / 2)) * (np.pi / 2)
+    yaw = np.where(np.abs(yaw - quarter) < 0.05, quarter, yaw)
+    c, s = np.abs(np.cos(yaw)), np.abs(np.sin(yaw))
+    ext = np.stack([c * size[:, 0] + s * size[:, 1], s * size[:, 0] + c * size[:, 1]], 1) / 2
+    room = np.maximum(np.array([w / 2, d / 2])[None, :] - ext, 0.0)
+    return np.clip(pos, -room, room), yaw
+
+
 def _fits_rect(pos: np.ndarray, yaw: np.ndarray, size: np.ndarray, w: float, d: float) -> bool:
     c = box_corners(pos, yaw, size[:, :2] * 0.5)
-    inside = (np.abs(c[..., 0]) <= w / 2 + 1e-3).all() and (np.abs(c[..., 1]) <= d / 2 + 1e-3).all()
+    inside = (np.abs(c[..., 0]) <= w / 2 + 1e-9).all() and (np.abs(c[..., 1]) <= d / 2 + 1e-9).all()
     return bool(inside) and _min_gap(pos, yaw, size) >= -1e-3

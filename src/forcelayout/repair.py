@@ -1,0 +1,162 @@
+"""Repair before reject: move only the objects at fault, then resettle briefly.
+
+A floor simulation that ends with a failed check or an unmet rule is not
+thrown away at once. :func:`repair_floor` judges the floor (the
+deterministic checks on the floor objects, and every floor binding by its
+rule's own check), names the objects at fault — those blocking the path to
+an unreachable object (:attr:`CheckReport.blocked_by`), those named by a
+collision, door or window failure, and the objects of unmet bindings — and
+runs a short simulation in which only they move, with the rules at full
+strength and a walkway term that asks them to leave an agent's width to
+their neighbours or to touch them. The result is kept only if it is better
+(fewer failures); at most ``rounds`` rounds, each capped in steps. The
+sample's report lists what each round did.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from forcelayout.forces import ForceModel, PassageTerm
+from forcelayout.layout import Layout, Pose
+from forcelayout.options import SolverConfig
+from forcelayout.solver import simulate
+from forcelayout.validate import check_layout
+
+__all__ = ["FloorVerdict", "judge_floor", "repair_floor"]
+
+_QUOTED = re.compile(r"'([^']+)'")
+
+
+@dataclass
+class FloorVerdict:
+    """How a floor arrangement fares, and which objects are at fault.
+
+    Attributes
+    ----------
+    failures : list of str
+        Failed checks (``"<check>: ..."``) and unmet bindings (``"rule(object, target)"``).
+    at_fault : set of int
+        Rows of the objects to move.
+    """
+
+    failures: list[str] = field(default_factory=list)
+    at_fault: set[int] = field(default_factory=set)
+
+    @property
+    def ok(self) -> bool:
+        """Whether nothing failed."""
+        return not self.failures
+
+
+def judge_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
+                check_kwargs: dict | None = None) -> FloorVerdict:
+    """Check a floor arrangement and name the objects at fault.
+
+    Parameters
+    ----------
+    model : ForceModel
+        The floor simulation's model (rows are the plan's floor objects).
+    pos : ndarray, shape (N, 2)
+    yaw : ndarray, shape (N,)
+    check_kwargs : dict, optional
+        Thresholds for :func:`forcelayout.validate.check_layout`.
+
+    Returns
+    -------
+    FloorVerdict
+    """
+    row = {oid: r for r, oid in enumerate(model.ids)}
+    poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
+             for oid, p, y in zip(model.ids, pos, yaw, strict=True)}
+    report = check_layout(Layout(model.plan, poses), **(check_kwargs or {}))
+    out = FloorVerdict(list(report.failures))
+    for fail in report.failures:
+        check = fail.split(":", 1)[0]
+        if check in ("collision", "door", "window", "outside"):
+            out.at_fault.update(row[n] for n in _QUOTED.findall(fail) if n in row)
+    for blockers in report.blocked_by.values():
+        out.at_fault.update(row[n] for n in blockers if n in row)
+    met = model.satisfied(model.state(pos, yaw))
+    for k, ok in met.items():
+        if not ok:
+            b = model.bindings[k]
+            out.failures.append(str(b))
+            out.at_fault.add(row[b.object])
+    return out
+
+
+def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: SolverConfig,
+                 *, rounds: int = 2, steps: int = 80, check_kwargs: dict | None = None,
+                 verdict: FloorVerdict | None = None
+                 ) -> tuple[np.ndarray, np.ndarray, int, list[str]]:
+    """Repair a settled floor arrangement by moving only the objects at fault.
+
+    Parameters
+    ----------
+    model : ForceModel
+    pos, yaw : ndarray
+        The settled poses.
+    config : SolverConfig
+        Base settings; each round runs at most ``steps`` steps.
+    rounds : int
+        Largest number of repair rounds.
+    steps : int
+        Step cap of one round.
+    check_kwargs : dict, optional
+        Thresholds of the checks.
+    verdict : FloorVerdict, optional
+        The verdict on ``pos, yaw`` if already known.
+
+    Returns
+    -------
+    pos, yaw : ndarray
+        The best arrangement found (the input if no round improved it).
+    steps : int
+        Simulation steps spent.
+    repairs : list of str
+        One line per round that improved the arrangement, naming the moved
+        objects and the failures before and after.
+    """
+    verdict = verdict if verdict is not None else judge_floor(model, pos, yaw, check_kwargs)
+    spent, notes = 0, []
+    cfg = replace(config, max_steps=max(1, min(config.max_steps, steps)),
+                  min_steps=min(config.min_steps, 20))
+    for _ in range(max(0, rounds)):
+        if verdict.ok or not verdict.at_fault:
+            break
+        movers = np.zeros(model.n, dtype=bool)
+        movers[sorted(verdict.at_fault)] = True
+        walkway = _walkway(model, movers)
+        model.add_term(walkway)
+        try:
+            res = simulate(model, pos, yaw, cfg, fixed=~movers)
+        finally:
+            model.terms.remove(walkway)
+        spent += res.steps
+        after = judge_floor(model, res.pos, res.yaw, check_kwargs)
+        if len(after.failures) >= len(verdict.failures):
+            break
+        moved = ", ".join(model.ids[r] for r in np.flatnonzero(movers))
+        notes.append(f"moved {moved}: {len(verdict.failures)} -> {len(after.failures)} failures")
+        pos, yaw, verdict = res.pos, res.yaw, after
+    return pos, yaw, spent, notes
+
+
+def _walkway(model: ForceModel, movers: np.ndarray) -> PassageTerm:
+    """Walking room (an agent's width and a little more) between the movers and all else.
+
+    Not annealed: it holds through the short repair simulation.
+    """
+    n = model.n
+    pi, pj = (a.astype(int) for a in np.triu_indices(n, k=1))
+    solid = ~model.walkable
+    keep = (movers[pi] | movers[pj]) & solid[pi] & solid[pj] & ~model.related[pi, pj]
+    w = replace(model.physical_weights, passage=2.0, passage_range=0.5)
+    term = PassageTerm(pi[keep], pj[keep], w)
+    term.annealed = False
+    return term
+

@@ -1,5 +1,6 @@
 """One plan -> many layouts: generate(), executors, reports, property tests."""
 
+import re
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -106,3 +107,18 @@ def test_same_seed_same_layout(plan):
     a = fl.solve(plan, seed=11)
     b = fl.solve(plan, seed=11)
     assert a.poses == b.poses and a.report.failures == b.report.failures
+
+
+def test_the_share_of_rules_met_reads_below_its_threshold():
+    data = dict(SMALL, rules=SMALL["rules"] + [
+        {"rule": "far_from", "object": "nightstand", "target": "bed",
+         "params": {"distance": 4.5}}])
+    met = fl.solve(data, 0).report.rule_satisfaction
+    assert met < 1.0
+    need = met + 0.004  # both round to the same whole percent
+    lay = fl.solve(data, 0, min_rule_satisfaction=need)
+    line = next(f for f in lay.report.failures if f.startswith("rules:"))
+    shown, below = re.match(r"rules: ([\d.]+)% met, below ([\d.]+)%; unmet: ", line).groups()
+    assert float(shown) < float(below)
+    assert float(below) == pytest.approx(100 * need)
+    assert "far_from(nightstand, bed)" in line

@@ -93,8 +93,10 @@ def _judge(layout: Layout, opts: Options) -> None:
     if report.rule_satisfaction < opts.min_rule_satisfaction:
         unmet = [f"{r.rule}({r.object}{', ' + r.target if r.target else ''})"
                  for r in layout.rule_report() if r.satisfied is False]  # cached report
-        failures.append(f"rules: {report.rule_satisfaction:.0%} met, below "
-                        f"{opts.min_rule_satisfaction:.0%}; unmet: {', '.join(unmet)}")
+        from forcelayout.validate.checks import _percents
+
+        shown, need = _percents(report.rule_satisfaction, opts.min_rule_satisfaction)
+        failures.append(f"rules: {shown}% met, below {need}%; unmet: {', '.join(unmet)}")
     report.failures = failures
     report.valid = not failures
 

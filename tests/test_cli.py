@@ -1,6 +1,7 @@
 """The command line, run as a user would."""
 
 import json
+import re
 import subprocess
 import sys
 
@@ -69,3 +70,44 @@ def test_validate_skips_files_that_are_not_layouts(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "summary.json: skipped, not a layout" in text
     assert "bedroom_000.json: ok" in text
+
+
+SHELVES = {  # eight tall shelves bound to the walls of a 3 x 2.4 m room: more wall than there is
+    "name": "shelves",
+    "room": {"polygon": [[0, 0], [3, 0], [3, 2.4], [0, 2.4]],
+             "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}],
+             "windows": [{"wall": 2, "offset": 1.5, "width": 1.0}]},
+    "objects": [{"id": f"shelf_{k}", "category": "bookshelf", "size": [1.2, 0.35, 2.0]}
+                for k in range(8)],
+    "rules": [{"rule": "at_wall", "object": f"shelf_{k}"} for k in range(8)],
+}
+
+
+def test_generate_warns_early_and_ends_with_a_one_line_hint(tmp_path, capsys):
+    plan = tmp_path / "shelves.json"
+    plan.write_text(json.dumps(SHELVES))
+    out = tmp_path / "out"
+    assert main(["generate", str(plan), "-n", "2", "--max-attempts", "2", "--out", str(out),
+                 "--quiet", "--format", "none"]) == 1
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and "Warning:" not in err  # no Python warning format
+    lines = err.splitlines()
+    assert len(lines) == 2
+    warning, hint = lines
+    assert warning.startswith("warning: plan 'shelves' looks infeasible before sampling: ")
+    assert hint.startswith("hint: only 0 of 2 layouts of plan 'shelves' from 2 samples: "
+                           "100 % of samples fail ")
+    assert "loosen" in hint
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["feasibility"] == "infeasible" and summary["why"] in hint
+
+
+def test_a_short_generate_run_hints_at_max_attempts(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["generate", "bedroom", "-n", "3", "--max-attempts", "2", "--out", str(out),
+                 "--quiet", "--format", "none"]) == 1
+    err = capsys.readouterr().err
+    hints = [line for line in err.splitlines() if line.startswith("hint: ")]
+    assert len(hints) == 1 and len(err.splitlines()) == 1 and "Traceback" not in err
+    assert re.search(r"^hint: only \d of 3 layouts of plan 'bedroom' from 2 samples: .+; "
+                     r".*--max-attempts \d+", hints[0])

@@ -1,5 +1,7 @@
 """One plan -> many layouts: generate(), executors, reports, property tests."""
 
+import re
+import warnings
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -7,6 +9,12 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 
 import forcelayout as fl
+from forcelayout.diagnose import (
+    EmptyGenerationError,
+    FeasibilityWarning,
+    FewLayoutsWarning,
+    dominant_cause,
+)
 from forcelayout.testing import plans
 from forcelayout.validate import check_layout
 
@@ -25,9 +33,32 @@ SMALL = {
 }
 
 
+#: Eight tall shelves, each bound to a wall, in a 3 x 2.4 m room: more wall than there is.
+SHELVES = {
+    "name": "shelves",
+    "room": {"polygon": [[0, 0], [3, 0], [3, 2.4], [0, 2.4]],
+             "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}],
+             "windows": [{"wall": 2, "offset": 1.5, "width": 1.0}]},
+    "objects": [{"id": f"shelf_{k}", "category": "bookshelf", "size": [1.2, 0.35, 2.0]}
+                for k in range(8)],
+    "rules": [{"rule": "at_wall", "object": f"shelf_{k}"} for k in range(8)],
+}
+
+
 @pytest.fixture(scope="module")
 def small_run():
-    return fl.generate(SMALL, 4, seed=3)
+    with warnings.catch_warnings():  # a feasible plan that yields: no warning
+        warnings.simplefilter("error", FeasibilityWarning)
+        warnings.simplefilter("error", FewLayoutsWarning)
+        return fl.generate(SMALL, 4, seed=3)
+
+
+@pytest.fixture(scope="module")
+def empty_run():
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = fl.generate(SHELVES, 2, seed=0, max_attempts=2)
+    return res, [w for w in caught if issubclass(w.category, UserWarning)]
 
 
 def test_generate_returns_n_valid_distinct_layouts(small_run):
@@ -56,20 +87,85 @@ def test_summary_counts(small_run):
     assert s["layouts_per_second"] > 0
 
 
+def test_a_feasible_run_keeps_its_verdict_and_has_no_why(small_run):
+    assert small_run.feasibility is not None and small_run.feasibility.ok
+    assert small_run.why is None and small_run.hint() is None
+    s = small_run.summary()
+    assert s["feasibility"] == small_run.feasibility.verdict and s["why"] is None
+
+
+def test_an_infeasible_plan_warns_before_sampling_and_is_still_sampled(empty_run):
+    res, caught = empty_run
+    assert [w.category for w in caught] == [FeasibilityWarning, FewLayoutsWarning]
+    warning = caught[0].message
+    assert "looks infeasible before sampling" in str(warning)
+    assert "9.60 m of wall" in str(warning) and "sampling anyway" in str(warning)
+    assert warning.feasibility is res.feasibility
+    assert res.feasibility.verdict == "infeasible"
+    assert res.attempted == 2 and len(res) == 0
+    s = res.summary()
+    assert s["feasibility"] == "infeasible" and s["feasibility_notes"] == res.feasibility.notes
+
+
+def test_too_few_layouts_say_the_dominant_cause_in_one_line(empty_run):
+    res, caught = empty_run
+    assert res.why == dominant_cause(res.reports)
+    assert res.why.startswith("100 % of samples fail ") and "\n" not in res.why
+    assert res.summary()["why"] == res.why
+    warning = caught[1].message
+    assert (warning.accepted, warning.wanted, warning.attempted) == (0, 2, 2)
+    assert warning.why == res.why
+    text = str(warning)
+    assert text.startswith("only 0 of 2 layouts of plan 'shelves' from 2 samples: ")
+    assert res.why in text and "loosen" in text and "\n" not in text
+
+
+def test_indexing_an_empty_generation_says_why(empty_run):
+    res, _ = empty_run
+    with pytest.raises(EmptyGenerationError) as info:
+        res[0]
+    assert isinstance(info.value, IndexError)
+    message = str(info.value)
+    assert "in 2 samples" in message and res.why in message
+    assert "looked infeasible" in message and "out of range" not in message
+    assert list(res) == [] and res[:1] == []
+
+
+def test_a_short_run_suggests_a_larger_budget():
+    with pytest.warns(FewLayoutsWarning, match=r"only 2 of 3 layouts .* from 2 samples: .*"
+                                               r"try max_attempts=\d+") as caught:
+        res = fl.generate(SMALL, 3, seed=0, max_attempts=2)
+    assert len(res) == 2 and res.why and res[1] is res.layouts[1]
+    assert not any(w.category is FeasibilityWarning for w in caught)
+
+
 def test_rejected_samples_say_why():
     # a rule that can never be met in a 4 m room, demanded in full
     data = dict(SMALL, rules=SMALL["rules"] + [
         {"rule": "far_from", "object": "nightstand", "target": "bed",
          "params": {"distance": 4.5}}])
-    res = fl.generate(data, 2, seed=0, max_attempts=3, min_rule_satisfaction=1.0)
+    with pytest.warns(FewLayoutsWarning, match="far_from"):
+        res = fl.generate(data, 2, seed=0, max_attempts=3, min_rule_satisfaction=1.0)
     assert len(res) == 0 and res.attempted == 3
     for r in res.rejected:
         assert r.failures and any("far_from" in f for f in r.failures)
 
 
 def test_budget_zero_returns_nothing():
-    res = fl.generate(SMALL, 3, max_attempts=0)
+    with pytest.warns(FewLayoutsWarning, match="no sample was drawn"):
+        res = fl.generate(SMALL, 3, max_attempts=0)
     assert len(res) == 0 and res.attempted == 0
+    with pytest.raises(IndexError, match=r"no sample was drawn \(max_attempts=0\)"):
+        res[-1]
+
+
+def test_nothing_asked_for_is_no_failure():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", FewLayoutsWarning)
+        res = fl.generate(SMALL, 0)
+    assert res.why is None
+    with pytest.raises(EmptyGenerationError, match=r"none was asked for \(n=0\)"):
+        res[0]
 
 
 def test_bad_arguments_fail_clearly():
@@ -89,6 +185,7 @@ def test_layout_json_round_trip(small_run, tmp_path):
     assert data["plan"] == "small" and data["seed"] == lay.seed
 
 
+@pytest.mark.filterwarnings("ignore::forcelayout.diagnose.FewLayoutsWarning")
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(plan=plans(max_objects=6))
 def test_random_feasible_plans_never_crash_and_results_pass_checks(plan):
@@ -106,3 +203,18 @@ def test_same_seed_same_layout(plan):
     a = fl.solve(plan, seed=11)
     b = fl.solve(plan, seed=11)
     assert a.poses == b.poses and a.report.failures == b.report.failures
+
+
+def test_the_share_of_rules_met_reads_below_its_threshold():
+    data = dict(SMALL, rules=SMALL["rules"] + [
+        {"rule": "far_from", "object": "nightstand", "target": "bed",
+         "params": {"distance": 4.5}}])
+    met = fl.solve(data, 0).report.rule_satisfaction
+    assert met < 1.0
+    need = met + 0.004  # both round to the same whole percent
+    lay = fl.solve(data, 0, min_rule_satisfaction=need)
+    line = next(f for f in lay.report.failures if f.startswith("rules:"))
+    shown, below = re.match(r"rules: ([\d.]+)% met, below ([\d.]+)%; unmet: ", line).groups()
+    assert float(shown) < float(below)
+    assert float(below) == pytest.approx(100 * need)
+    assert "far_from(nightstand, bed)" in line

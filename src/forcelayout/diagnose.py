@@ -36,7 +36,8 @@ from shapely import affinity
 from forcelayout.plan import MAX_FLOOR_FILL, Plan
 from forcelayout.sources import load_plan
 
-__all__ = ["Feasibility", "feasibility", "dominant_cause", "WALL_PLACES"]
+__all__ = ["Feasibility", "feasibility", "dominant_cause", "WALL_PLACES", "FeasibilityWarning",
+           "FewLayoutsWarning", "EmptyGenerationError"]
 
 #: Start-hint places (:attr:`StartHint.place`) that put an object against a wall.
 WALL_PLACES = frozenset({"wall", "corner"})
@@ -48,6 +49,40 @@ _TIGHT_WALL = 0.8
 _TIGHT_SPAN = 0.9
 
 Verdict = Literal["ok", "tight", "infeasible"]
+
+
+class FeasibilityWarning(UserWarning):
+    """:func:`forcelayout.generate` found the plan infeasible before sampling; it samples anyway.
+
+    The message lists the notes of the :class:`Feasibility` estimate, which
+    is kept as the ``feasibility`` attribute (and as ``Generation.feasibility``).
+    """
+
+    def __init__(self, message: str, feasibility: Feasibility | None = None):
+        super().__init__(message)
+        self.feasibility = feasibility
+
+
+class FewLayoutsWarning(UserWarning):
+    """:func:`forcelayout.generate` accepted fewer layouts than asked for.
+
+    The message names accepted / wanted / attempted, the dominant cause
+    (:func:`dominant_cause`) and what to try; the same facts are the
+    attributes ``accepted``, ``wanted``, ``attempted`` and ``why``.
+    """
+
+    def __init__(self, message: str, *, accepted: int = 0, wanted: int = 0, attempted: int = 0,
+                 why: str | None = None):
+        super().__init__(message)
+        self.accepted, self.wanted, self.attempted, self.why = accepted, wanted, attempted, why
+
+
+class EmptyGenerationError(IndexError):
+    """Indexing a :class:`~forcelayout.Generation` that holds no layout.
+
+    The message says why it is empty: the dominant cause of the rejections
+    and how many samples were attempted.
+    """
 
 
 @dataclass

@@ -3,6 +3,11 @@
 Writes, per accepted layout, ``<plan>_<k>.json`` (poses, report, rule
 results) and a top-down picture, plus ``summary.json`` with counts, rates,
 timing and the reasons rejected samples failed.
+
+A plan that looks infeasible before sampling gets one ``warning:`` line on
+stderr before the samples run; a run with fewer layouts than asked for ends
+with one ``hint:`` line on stderr (the dominant cause and what to try) and
+exit status 1.
 """
 
 from __future__ import annotations
@@ -10,9 +15,11 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import warnings
 from concurrent.futures import Executor, ProcessPoolExecutor
 from pathlib import Path
 
+from forcelayout.diagnose import FeasibilityWarning, FewLayoutsWarning
 from forcelayout.plan import Plan
 from forcelayout.sampling import Options, generate
 from forcelayout.sources import load_plan
@@ -39,8 +46,21 @@ def run_generate(args: argparse.Namespace) -> int:
     opts = Options(relations=not args.no_relations, decor=not args.no_decor)
     executor: Executor | None = ProcessPoolExecutor(args.workers) if args.workers > 1 else None
     try:
-        result = generate(plan, args.n, seed=args.seed, executor=executor,
-                          max_attempts=args.max_attempts, progress=not args.quiet, options=opts)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", FewLayoutsWarning)  # said below as a hint
+            warnings.simplefilter("always", FeasibilityWarning)
+            show = warnings.showwarning
+
+            def say(message, category, *rest, **kw):  # a feasibility warning as one plain line
+                if issubclass(category, FeasibilityWarning):
+                    print(" ".join(f"warning: {message}".split()), file=sys.stderr, flush=True)
+                else:
+                    show(message, category, *rest, **kw)
+
+            warnings.showwarning = say
+            result = generate(plan, args.n, seed=args.seed, executor=executor,
+                              max_attempts=args.max_attempts, progress=not args.quiet,
+                              options=opts)
     finally:
         if executor is not None:
             executor.shutdown()
@@ -59,8 +79,8 @@ def run_generate(args: argparse.Namespace) -> int:
     if summary["failure_reasons"]:
         print("rejections: " + ", ".join(f"{k} x{v}" for k, v in
                                          summary["failure_reasons"].items()))
-    if len(result) < args.n:
-        print(f"warning: only {len(result)} of {args.n} layouts within {summary['attempted']} "
-              "samples; raise --max-attempts or loosen the plan", file=sys.stderr)
+    hint = result.hint(cli=True)
+    if hint is not None:
+        print(f"hint: {hint}", file=sys.stderr)
         return 1
     return 0

@@ -11,7 +11,9 @@ so the result does not depend on the executor or the number of workers.
 
 from __future__ import annotations
 
+import math
 import time
+import warnings
 from collections.abc import Iterator
 from concurrent.futures import Executor
 from dataclasses import dataclass, replace
@@ -19,6 +21,14 @@ from typing import Any
 
 import numpy as np
 
+from forcelayout.diagnose import (
+    EmptyGenerationError,
+    Feasibility,
+    FeasibilityWarning,
+    FewLayoutsWarning,
+    dominant_cause,
+    feasibility,
+)
 from forcelayout.errors import PlanError
 from forcelayout.layout import Layout, SampleReport
 from forcelayout.options import Options
@@ -94,8 +104,10 @@ def _judge(layout: Layout, opts: Options) -> None:
     if report.rule_satisfaction < opts.min_rule_satisfaction:
         unmet = [f"{r.rule}({r.object}{', ' + r.target if r.target else ''})"
                  for r in layout.rule_report() if r.satisfied is False]  # cached report
-        failures.append(f"rules: {report.rule_satisfaction:.0%} met, below "
-                        f"{opts.min_rule_satisfaction:.0%}; unmet: {', '.join(unmet)}")
+        from forcelayout.validate.checks import _percents
+
+        shown, need = _percents(report.rule_satisfaction, opts.min_rule_satisfaction)
+        failures.append(f"rules: {shown}% met, below {need}%; unmet: {', '.join(unmet)}")
     report.failures = failures
     report.valid = not failures
 
@@ -126,7 +138,9 @@ def _sample(plan: Plan, seed: int, opts: Options) -> Layout:
 class Generation:
     """The outcome of :func:`generate`: accepted layouts and every sample's report.
 
-    Iterating, ``len()`` and indexing go over the accepted layouts.
+    Iterating, ``len()`` and indexing go over the accepted layouts. Indexing
+    an empty one raises :class:`~forcelayout.diagnose.EmptyGenerationError`
+    (an ``IndexError``) saying why it is empty.
 
     Attributes
     ----------
@@ -136,6 +150,15 @@ class Generation:
         One per attempted sample (accepted or not), in sample order.
     seconds : float
         Wall time of the whole run.
+    wanted : int or None
+        The ``n`` asked for.
+    feasibility : Feasibility or None
+        The plan's :func:`~forcelayout.diagnose.feasibility` estimate, made
+        once before sampling.
+    why : str or None
+        When fewer than ``wanted`` layouts were accepted, the dominant cause
+        in one line (:func:`~forcelayout.diagnose.dominant_cause` of the
+        reports); ``None`` otherwise.
     """
 
     plan: Plan
@@ -143,6 +166,9 @@ class Generation:
     layouts: list[Layout]
     reports: list[SampleReport]
     seconds: float
+    wanted: int | None = None
+    feasibility: Feasibility | None = None
+    why: str | None = None
 
     def __iter__(self) -> Iterator[Layout]:
         return iter(self.layouts)
@@ -151,7 +177,54 @@ class Generation:
         return len(self.layouts)
 
     def __getitem__(self, k: int) -> Layout:
+        if not self.layouts and not isinstance(k, slice):
+            raise EmptyGenerationError(self._empty_message())
         return self.layouts[k]
+
+    def _empty_message(self) -> str:
+        head = f"no layout of plan {self.plan.name!r} was accepted"
+        if self.wanted == 0:
+            return f"{head}: none was asked for (n=0)"
+        text = f"{head} in {self.attempted} samples: {self._cause()}"
+        if self.feasibility is not None and not self.feasibility.ok:
+            text += f" (before sampling the plan looked infeasible: {self.feasibility.notes[0]})"
+        return text
+
+    def _cause(self) -> str:
+        """The one-line reason for too few layouts (``why`` when set)."""
+        if self.why:
+            return self.why
+        if not self.reports:
+            return "no sample was drawn (max_attempts=0)"
+        return (dominant_cause(self.reports)
+                or f"the budget of {self.attempted} samples ran out before any failed")
+
+    def hint(self, *, cli: bool = False) -> str | None:
+        """One line: how many layouts came of how many samples, why, and what to try.
+
+        ``None`` when ``wanted`` layouts were accepted. ``cli=True`` names the
+        command line's ``--max-attempts`` instead of ``max_attempts=``.
+        """
+        if self.wanted is None or len(self.layouts) >= self.wanted:
+            return None
+        k, n, tried = len(self.layouts), self.wanted, self.attempted
+
+        def attempts(total: int) -> str:
+            return f"--max-attempts {total}" if cli else f"max_attempts={total}"
+
+        if tried == 0:
+            todo = f"allow samples with {attempts(max(4 * n, n + 20))}"
+        elif self.feasibility is not None and not self.feasibility.ok:
+            todo = ("the plan looked infeasible before sampling; loosen it (fewer or smaller "
+                    "objects, a larger room, fewer wall rules) rather than drawing more samples")
+        elif k > 0:
+            more = tried + math.ceil((n - k) * tried / k * 1.2)
+            todo = f"try {attempts(more)} (about {k / tried:.0%} of samples are accepted)"
+        else:
+            todo = f"loosen the plan, or try {attempts(4 * tried)} for a rare success"
+        line = (f"only {k} of {n} layouts of plan {self.plan.name!r} from {tried} samples: "
+                f"{self._cause()}; {todo}")
+        return " ".join(line.split())  # one line whatever the failure messages hold
 
     @property
     def attempted(self) -> int:
@@ -175,8 +248,13 @@ class Generation:
         return {
             "plan": self.plan.name,
             "seed": self.seed,
+            "wanted": self.wanted,
             "accepted": len(self.layouts),
             "attempted": self.attempted,
+            "feasibility": self.feasibility.verdict if self.feasibility is not None else None,
+            "feasibility_notes": list(self.feasibility.notes) if self.feasibility is not None
+            else [],
+            "why": self.why,
             "valid_fraction": valid / max(self.attempted, 1),
             "mean_rule_satisfaction": float(np.mean([r.rule_satisfaction for r in self.reports]))
             if self.reports else 0.0,
@@ -240,7 +318,18 @@ def generate(
     Returns
     -------
     Generation
-        ``len(result) <= n``; ``result.rejected`` says why the others failed.
+        ``len(result) <= n``; ``result.rejected`` says why the others failed,
+        ``result.why`` the dominant cause in one line.
+
+    Warns
+    -----
+    FeasibilityWarning
+        Before sampling, when :func:`forcelayout.diagnose.feasibility` finds
+        the plan infeasible (sampling goes on; ``result.feasibility`` keeps
+        the estimate).
+    FewLayoutsWarning
+        After the run, when fewer than ``n`` layouts were accepted: accepted
+        of attempted, the dominant cause and what to try.
     """
     if n < 0:
         raise ValueError(f"n must be >= 0, got {n}")
@@ -252,6 +341,11 @@ def generate(
     budget = max(4 * n, n + 20) if max_attempts is None else int(max_attempts)
     if budget < 0:
         raise ValueError(f"max_attempts must be >= 0, got {max_attempts}")
+    feas = _feasibility(plan, opts)
+    if not feas.ok:
+        warnings.warn(FeasibilityWarning(
+            f"plan {plan.name!r} looks infeasible before sampling: {'; '.join(feas.notes)}; "
+            "sampling anyway", feas), stacklevel=2)
     t0 = time.perf_counter()
     accepted: list[Layout] = []
     reports: list[SampleReport] = []
@@ -288,5 +382,21 @@ def generate(
     finally:
         if bar is not None:
             bar.close()
-    return Generation(plan, int(seed), accepted, reports, time.perf_counter() - t0)
+    result = Generation(plan, int(seed), accepted, reports, time.perf_counter() - t0,
+                        wanted=n, feasibility=feas)
+    if len(accepted) < n:
+        result.why = result._cause()
+        warnings.warn(FewLayoutsWarning(result.hint() or result.why, accepted=len(accepted),
+                                        wanted=n, attempted=len(reports), why=result.why),
+                      stacklevel=2)
+    return result
+
+
+def _feasibility(plan: Plan, opts: Options) -> Feasibility:
+    """The feasibility of the plan as sampled, with the thresholds the checks will use."""
+    kw = {k: opts.check_kwargs[k] for k in ("agent_radius", "min_free_fraction")
+          if k in opts.check_kwargs}
+    if not opts.check:  # no navigability check: the free floor asks for nothing
+        kw["min_free_fraction"] = 0.0
+    return feasibility(_plan_for(plan, opts), **kw)
 

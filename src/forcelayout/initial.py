@@ -20,8 +20,9 @@ import shapely
 
 from forcelayout import geometry as geo
 from forcelayout.clearance import WindowTerm
-from forcelayout.forces import ForceModel
+from forcelayout.forces import ForceModel, RuleGroup
 from forcelayout.layout import Layout, Pose
+from forcelayout.rules.base import ParamArrays
 from forcelayout.validate import check_layout
 
 __all__ = ["parents", "initial_poses", "propose_poses"]
@@ -36,8 +37,6 @@ class _Wants:
 
     places: set[str] = field(default_factory=set)
     turns: set[str] = field(default_factory=set)
-    face: list[int] = field(default_factory=list)  # targets to turn towards
-    beside: list[int] = field(default_factory=list)  # targets to stand beside
     related: set[int] = field(default_factory=set)  # every target row
     below_wall_object: bool = False  # something hangs on the wall above this object
 
@@ -114,10 +113,6 @@ def _wants(model: ForceModel) -> list[_Wants]:
                 w.places.add(hint.place)
             if hint.turn is not None:
                 w.turns.add(hint.turn)
-            if j >= 0 and hint.turn == "face_target":
-                w.face.append(j)
-            if j >= 0 and hint.place == "beside":
-                w.beside.append(j)
     row = {oid: k for k, oid in enumerate(model.ids)}
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
@@ -248,25 +243,13 @@ def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius,
     return cand, rng.uniform(-np.pi, np.pi, k)
 
 
-def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r, pos, half, placed) -> np.ndarray:
-    """How many of an object's cheaply judged start hints each candidate pose misses, (K,).
+def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r) -> np.ndarray:
+    """Candidates of an object that something hangs on the wall above, near an opening, (K,).
 
-    Judged: turning towards a target (within 25° of the front), standing
-    near a window or door (centre within 1.3 m of one) and standing beside a
-    target (footprint roughly beside the target's), for targets already
-    placed; and for objects that something hangs on the wall above: no
-    window or door in the wall above or close beside.
+    That object should stand where the wall above it has no window or door
+    (1 where a candidate misses that, else 0).
     """
     unmet = np.zeros(len(cand))
-    for j in wants.face:
-        if j in placed:
-            d = pos[j] - cand
-            cos = (d * fwd).sum(1) / np.maximum(np.sqrt((d * d).sum(1)), 1e-9)
-            unmet += cos < np.cos(np.radians(25.0))
-    for place, openings in (("window", room.windows), ("door", room.doors)):
-        if place in wants.places and len(openings):
-            d = cand[:, None, :] - openings.centre[None]
-            unmet += np.sqrt((d * d).sum(2)).min(1) > 1.3
     for win in (room.windows, room.doors) if wants.below_wall_object else ():
         if not len(win):  # keep the wall above it free of windows and doors
             continue
@@ -276,13 +259,41 @@ def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r, pos, half, placed) -> np
         reach = win.width[None] * 0.5 + 0.3 + np.abs((rgt[:, None] * win.tangent[None]).sum(2)) \
             * half_r[0] + np.abs((fwd[:, None] * win.tangent[None]).sum(2)) * half_r[1]
         unmet += ((along < reach) & (off < half_r.max() + 0.3)).any(1)
-    for j in wants.beside:
-        if j in placed:
-            d = np.abs(cand - pos[j])
-            ext = np.abs(rgt) * half_r[0] + np.abs(fwd) * half_r[1]
-            # a rough axis-aligned test; the simulation closes small gaps
-            gap = (d - ext - np.sqrt((half[j] ** 2).sum())).max(1)
-            unmet += gap > 0.35
+    return unmet
+
+
+def _bindings_of(model: ForceModel) -> list[list[tuple[RuleGroup, int]]]:
+    """For each row, the (group, position in the group) of every binding that places it."""
+    out: list[list[tuple[RuleGroup, int]]] = [[] for _ in range(model.n)]
+    for g in model.groups:
+        for b, i in enumerate(g.i.tolist()):
+            out[i].append((g, b))
+    return out
+
+
+def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: int,
+                 cand: np.ndarray, cyaw: np.ndarray, pos: np.ndarray, yaw: np.ndarray,
+                 placed: list[int]) -> np.ndarray:
+    """How many of object ``r``'s bindings each candidate pose misses, by the rules' own checks.
+
+    Bindings to targets not placed yet are not judged. Shape (K,).
+    """
+    k = len(cand)
+    unmet = np.zeros(k)
+    judged = [(g, b) for g, b in bindings if g.j is None or int(g.j[b]) in placed]
+    if not judged:
+        return unmet
+    rows = list(placed)
+    at = {p: q for q, p in enumerate(rows)}
+    state = model.state(np.concatenate([pos[rows], cand]),
+                        np.concatenate([yaw[rows], cyaw]))
+    state.size = np.concatenate([model.size[rows], np.repeat(model.size[r:r + 1], k, 0)])
+    i = np.arange(len(rows), len(rows) + k)
+    for g, b in judged:
+        j = None if g.j is None else np.full(k, at[int(g.j[b])])
+        p = ParamArrays({f: np.repeat(v[b:b + 1], k) for f, v in g.params._fields.items()},
+                        np.repeat(g.params.weight[b:b + 1], k))
+        unmet += ~np.asarray(g.rule.satisfied(state, i, j, p), dtype=bool)
     return unmet
 
 
@@ -366,6 +377,7 @@ def propose_poses(
     parent = parents(model)
     wants = _wants(model)
     walkable = model.walkable
+    by_object = _bindings_of(model)
     window = next((t for t in model.terms if isinstance(t, WindowTerm)), None)
     order = _order(parent, model.size[:, 0] * model.size[:, 1])
     # wall length to keep free beside a parent for children standing beside it
@@ -436,7 +448,8 @@ def propose_poses(
             dsep = geo.obb_separation(dc[None] - cand[:, None], rgt[:, None], fwd[:, None],
                                       reserve[None, None], dr[None], df[None], dh[None])
             clear = np.minimum(clear, dsep.min(axis=1))
-        unmet = _unmet(room, w, cand, fwd, rgt, half[r], pos, half, set(placed))
+        unmet = _unmet(room, w, cand, fwd, rgt, half[r])
+        unmet += _unmet_rules(model, by_object[r], r, cand, cyaw, pos, yaw, placed)
         if window is not None and window.tall[:, r].any():  # tall: not in front of a window
             z = window.tall[:, r]
             sep = geo.obb_separation(window.centre[z][None] - cand[:, None], rgt[:, None],

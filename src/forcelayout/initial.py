@@ -263,11 +263,14 @@ def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r) -> np.ndarray:
 
 
 def _bindings_of(model: ForceModel) -> list[list[tuple[RuleGroup, int]]]:
-    """For each row, the (group, position in the group) of every binding that places it."""
+    """For each row, the (group, position in the group) of every binding it takes part in."""
     out: list[list[tuple[RuleGroup, int]]] = [[] for _ in range(model.n)]
     for g in model.groups:
-        for b, i in enumerate(g.i.tolist()):
+        js = g.j.tolist() if g.j is not None else [-1] * len(g.i)
+        for b, (i, j) in enumerate(zip(g.i.tolist(), js, strict=True)):
             out[i].append((g, b))
+            if j >= 0 and j != i:
+                out[j].append((g, b))
     return out
 
 
@@ -276,11 +279,19 @@ def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: in
                  placed: list[int]) -> np.ndarray:
     """How many of object ``r``'s bindings each candidate pose misses, by the rules' own checks.
 
-    Bindings to targets not placed yet are not judged. Shape (K,).
+    Every binding the object takes part in (as object or as target) whose
+    other object is placed already is judged. Shape (K,).
     """
     k = len(cand)
     unmet = np.zeros(k)
-    judged = [(g, b) for g, b in bindings if g.j is None or int(g.j[b]) in placed]
+    done = set(placed)
+
+    def other(g: RuleGroup, b: int) -> int:  # the binding's other object, -1 for the room
+        if g.j is None:
+            return -1
+        return int(g.j[b]) if int(g.i[b]) == r else int(g.i[b])
+
+    judged = [(g, b) for g, b in bindings if g.j is None or other(g, b) in done]
     if not judged:
         return unmet
     rows = list(placed)
@@ -288,9 +299,14 @@ def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: in
     state = model.state(np.concatenate([pos[rows], cand]),
                         np.concatenate([yaw[rows], cyaw]))
     state.size = np.concatenate([model.size[rows], np.repeat(model.size[r:r + 1], k, 0)])
-    i = np.arange(len(rows), len(rows) + k)
+    me = np.arange(len(rows), len(rows) + k)
     for g, b in judged:
-        j = None if g.j is None else np.full(k, at[int(g.j[b])])
+        if g.j is None:
+            i, j = me, None
+        elif int(g.i[b]) == r:  # this object is the binding's object
+            i, j = me, np.full(k, at[other(g, b)])
+        else:  # this object is the binding's target
+            i, j = np.full(k, at[other(g, b)]), me
         p = ParamArrays({f: np.repeat(v[b:b + 1], k) for f, v in g.params._fields.items()},
                         np.repeat(g.params.weight[b:b + 1], k))
         unmet += ~np.asarray(g.rule.satisfied(state, i, j, p), dtype=bool)

@@ -60,9 +60,15 @@ class AtWall(Rule):
         room = state.room
         w = p.weight
         f, size = state.front[i], state.size[i]
-        # nearest wall, preferring walls long enough to take the object's width
-        wall = np.argmin(state.wall_distance[i] + (room.length < 0.9 * size[:, :1]) * 100.0,
-                         axis=1)
+        # the wall nearest to the back edge's middle (so a long object whose head is at
+        # one wall is not turned to the wall along its side), preferring walls long
+        # enough to take the object's width
+        back = state.pos[i] - f * (0.5 * size[:, 1:2])
+        s = back @ room.normal.T - room.normal_offset
+        t = back @ room.tangent.T - room.tangent_offset
+        beyond = np.maximum(np.maximum(-t, t - room.length), 0.0)
+        dist = np.sqrt(s * s + beyond * beyond)
+        wall = np.argmin(dist + (room.length < 0.9 * size[:, :1]) * 100.0, axis=1)
         n, t = room.normal[wall], room.tangent[wall]
         fx, fy, nx, ny = f[:, 0], f[:, 1], n[:, 0], n[:, 1]
         fn = fx * nx + fy * ny  # front . normal

@@ -21,7 +21,7 @@ __all__ = ["push_out", "WindowTerm"]
 
 def push_out(f: np.ndarray, state: State, centre: np.ndarray, out: np.ndarray,
              lateral: np.ndarray, half: np.ndarray, pen: np.ndarray, active: np.ndarray,
-             strength: float) -> None:
+             strength: float, slide: np.ndarray | None = None) -> None:
     """Add to ``f`` (N, 2) the push of every active (zone, object) pair out of the zone.
 
     Parameters
@@ -39,6 +39,8 @@ def push_out(f: np.ndarray, state: State, centre: np.ndarray, out: np.ndarray,
         Pairs to push.
     strength : float
         Force per metre of intrusion; capped at ``0.15 * strength``.
+    slide : ndarray of bool, shape (N,), optional
+        Objects always pushed sideways (held at a wall: pushed along it).
     """
     if not active.any():
         return
@@ -53,6 +55,8 @@ def push_out(f: np.ndarray, state: State, centre: np.ndarray, out: np.ndarray,
     pen_side = half[z, 0] + ext_a - np.abs(a)  # to leave sideways
     pen_out = half[z, 1] + ext_o - ahead  # to leave through the far side
     sideways = pen_side <= pen_out
+    if slide is not None:
+        sideways |= slide[b]
     mag = np.minimum(strength * pen[z, b], 0.15 * strength)
     push = np.where(sideways[:, None], lateral[z] * np.where(a >= 0, 1.0, -1.0)[:, None],
                     out[z]) * mag[:, None]
@@ -75,19 +79,22 @@ class WindowTerm:
         Rows never pushed (walkable covers).
     strength : float
         Force per metre of intrusion.
+    slide : ndarray of bool, shape (N,), optional
+        Rows pushed along the wall only (held at it by a hard rule).
     """
 
     annealed = False
 
     def __init__(self, centre: np.ndarray, lateral: np.ndarray, out: np.ndarray,
                  half: np.ndarray, sill: np.ndarray, height: np.ndarray, exempt: np.ndarray,
-                 strength: float = 10.0):
+                 strength: float = 10.0, slide: np.ndarray | None = None):
         self.centre, self.lateral, self.out, self.half = centre, lateral, out, half
         keep = half[:, 1] > 0  # a zone of depth 0 is switched off
         self.centre, self.lateral, self.out, self.half = (a[keep] for a in (
             centre, lateral, out, half))
         self.tall = (height[None, :] > sill[keep][:, None] + 1e-9) & ~exempt[None, :]
         self.strength = float(strength)
+        self.slide = slide
 
     def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
         n = state.n
@@ -99,5 +106,5 @@ class WindowTerm:
                                  state.right[None], state.front[None], state.half[None])
         pen = np.maximum(0.02 - sep, 0.0)
         push_out(f, state, self.centre, self.out, self.lateral, self.half, pen,
-                 (pen > 0) & self.tall, self.strength)
+                 (pen > 0) & self.tall, self.strength, self.slide)
         return f, np.zeros(n)

@@ -132,18 +132,20 @@ class PhysicalTerm:
     """The always-on terms (repulsion, boundary, alignment, door clearance); not annealed.
 
     Repulsion acts between the pairs ``(pi, pj)``; the door clearance pushes
-    the ``solid`` rows (walkable floor covers may lie in a door's swing).
+    the ``solid`` rows (walkable floor covers may lie in a door's swing), and
+    the ``slide`` rows (held at a wall by a hard rule) only along the wall.
     """
 
     annealed = False
 
     def __init__(self, pi: np.ndarray, pj: np.ndarray, weights: PhysicalWeights,
-                 solid: np.ndarray | None = None):
+                 solid: np.ndarray | None = None, slide: np.ndarray | None = None):
         self.pi, self.pj, self.weights = pi, pj, weights
         self.solid = None if solid is None or solid.all() else solid.astype(float)
+        self.slide = None if slide is None or not slide.any() else slide
 
     def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
-        return physical(state, self.pi, self.pj, self.weights, self.solid)
+        return physical(state, self.pi, self.pj, self.weights, self.solid, self.slide)
 
 
 class ForceModel:
@@ -221,11 +223,14 @@ class ForceModel:
         self.related = related
         free = ~related[self.pi, self.pj]
         self.rules = RuleTerm(self.groups, n)
+        #: Rows a hard placement rule holds (at a wall, in a corner): keep-out zones push
+        #: them along the wall, never off it.
+        self.held = self.rules.soft_torque_scale < 1.0
         w_window = self.physical_weights.window
         self.terms: list[ForceTerm] = [
             self.rules,
             PassageTerm(self.pi[free], self.pj[free], self.physical_weights),
-            PhysicalTerm(self.pi, self.pj, self.physical_weights, ~self.walkable),
+            PhysicalTerm(self.pi, self.pj, self.physical_weights, ~self.walkable, self.held),
         ]
         if self.room is self.compiled.room and self.plan.room.windows and w_window > 0:
             self.terms.append(self._window_term(w_window))
@@ -245,7 +250,7 @@ class ForceModel:
         centre = win.centre + win.normal * depth[:, None] * 0.5
         half = np.stack([win.width * 0.5, depth * 0.5], axis=1)
         return WindowTerm(centre, win.tangent, win.normal, half, sill, self.size[:, 2],
-                          self.walkable, 10.0 * strength)
+                          self.walkable, 10.0 * strength, slide=self.held)
 
     @property
     def n(self) -> int:

@@ -163,12 +163,14 @@ def alignment(state: State, w: PhysicalWeights) -> tuple[np.ndarray, np.ndarray]
     return np.zeros((state.n, 2)), -w.alignment * np.sin(4.0 * state.yaw)
 
 
-def door_clearance(state: State, w: PhysicalWeights) -> tuple[np.ndarray, np.ndarray]:
+def door_clearance(state: State, w: PhysicalWeights, slide: np.ndarray | None = None
+                   ) -> tuple[np.ndarray, np.ndarray]:
     """Push footprints out of each door's swing square (door width deep into the room).
 
     The push runs along the square's axis of least penetration: sideways
     along the wall for an object beside the door, straight into the room for
-    an object in front of it.
+    an object in front of it. Rows marked in ``slide`` (objects a hard rule
+    holds at a wall) are always pushed sideways.
     """
     room = state.room
     n = state.n
@@ -190,6 +192,8 @@ def door_clearance(state: State, w: PhysicalWeights) -> tuple[np.ndarray, np.nda
     pen_a = dh[None, :, 0] + ext_a - np.abs(along)  # overlap if pushed sideways
     pen_b = dh[None, :, 1] + ext_b - ahead  # overlap if pushed into the room
     sideways = pen_a <= pen_b
+    if slide is not None:  # objects held at a wall leave along it, never into the room
+        sideways |= slide[:, None]
     fa = np.where(sideways, np.where(along >= 0, depth, -depth), 0.0)
     fb = np.where(sideways, 0.0, depth)
     return fa @ dr + fb @ df, np.zeros(n)
@@ -197,16 +201,17 @@ def door_clearance(state: State, w: PhysicalWeights) -> tuple[np.ndarray, np.nda
 
 def physical(
     state: State, pi: np.ndarray, pj: np.ndarray, w: PhysicalWeights,
-    solid: np.ndarray | None = None,
+    solid: np.ndarray | None = None, slide: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Sum of all always-on terms: repulsion, boundary, alignment, door clearance.
 
     ``solid`` (N,) marks the rows the door clearance pushes (all by default);
-    walkable floor covers may lie in a door's swing.
+    walkable floor covers may lie in a door's swing. ``slide`` (N,) marks rows
+    pushed out of door squares along the wall only (see :func:`door_clearance`).
     """
     f = np.zeros((state.n, 2))
     tau = np.zeros(state.n)
-    fd, td = door_clearance(state, w)
+    fd, td = door_clearance(state, w, slide)
     if solid is not None:
         fd = fd * solid[:, None]
     for fk, tk in (repulsion(state, pi, pj, w), boundary(state, w), alignment(state, w),

@@ -17,7 +17,16 @@ import numpy as np
 from pydantic import Field
 
 from forcelayout.rules.base import ParamArrays, Rule, StartHint, State
-from forcelayout.rules.shaping import CAP, GAIN, extent, ramp, signed_angle, turn, unit
+from forcelayout.rules.shaping import (
+    CAP,
+    GAIN,
+    extent,
+    ramp,
+    signed_angle,
+    turn,
+    unit,
+    view_blockers,
+)
 
 __all__ = [
     "NextTo",
@@ -128,12 +137,16 @@ class FarFrom(Rule):
 
 
 class Facing(Rule):
-    """Turned towards the target: its centre within `max_angle` degrees of the front.
+    """Turned towards the target with a clear view: its centre within `max_angle` of the front.
 
-    Small misses are fixed by sliding sideways (along the object's own
-    right axis) until the target is well inside the cone, so an object held
-    square by a wall lines up with its target along that wall; large misses
-    also turn the object.
+    Satisfied when the target's centre lies within ``max_angle`` degrees of
+    the object's front and no floor object taller than ``view_height``
+    stands on the line between the two centres (a sofa facing the TV over a
+    low coffee table, not through a wardrobe). Small misses are fixed by
+    sliding sideways (along the object's own right axis) until the target is
+    well inside the cone, so an object held square by a wall lines up with
+    its target along that wall; large misses also turn the object. A blocked
+    view slides the object sideways, away from the blocker.
     """
 
     target = "required"
@@ -145,6 +158,9 @@ class Facing(Rule):
         max_angle: float = Field(30.0, gt=0, le=180,
                                  description="Largest angle between the object's front and "
                                              "the direction to the target's centre, deg.")
+        view_height: float = Field(1.1, gt=0,
+                                   description="Floor objects taller than this on the line "
+                                               "between the two block the view, m.")
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         err = _facing_error(state, i, j)
@@ -155,10 +171,17 @@ class Facing(Rule):
         ahead = (d * state.front[i]).sum(1)
         reach = np.maximum(ahead, 0.0) * np.tan(np.minimum(0.6 * half_cone, 1.4))
         slide = np.where(ahead > 0, ramp(np.abs(lat) - reach), 0.0) * np.sign(lat)
+        slide *= np.where(np.abs(err) <= half_cone, 0.3, 1.0)  # gently, once inside the cone
+        blocked = view_blockers(state, i, j, p.view_height)
+        if blocked.any():  # slide away from the blockers' side of the line of sight
+            off = ((state.pos[None, :, :] - state.pos[i][:, None, :]) * r[:, None, :]).sum(2)
+            side = np.where(blocked, np.sign(off - lat[:, None] * 0.5), 0.0).sum(1)
+            slide = slide - 0.5 * CAP * np.sign(side) * blocked.any(1)
         return r * (p.weight * slide)[:, None], turn(err, 0.6 * half_cone, p.weight)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
-        return np.abs(_facing_error(state, i, j)) <= np.radians(p.max_angle)
+        aimed = np.abs(_facing_error(state, i, j)) <= np.radians(p.max_angle)
+        return aimed & ~view_blockers(state, i, j, p.view_height).any(1)
 
 
 class FaceSameAs(Rule):
@@ -422,8 +445,12 @@ class Under(Rule):
         return np.arctan2(np.sin(4.0 * rel), np.cos(4.0 * rel)) / 4.0
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
-        u, dist = unit(state.pos[j] - state.pos[i])
-        f = u * (p.weight * ramp(dist))[:, None]  # centred under the target
+        x, y = self._local(state, i, j)  # the target's centre in the object's frame
+        h = state.half[i]
+        aim = np.maximum(h - p.margin[:, None] - 0.05, 0.0)  # a little inside the edges
+        fx = ramp(np.abs(x) - aim[:, 0]) * np.sign(x)
+        fy = ramp(np.abs(y) - aim[:, 1]) * np.sign(y)
+        f = (state.right[i] * fx[:, None] + state.front[i] * fy[:, None]) * p.weight[:, None]
         dead = 0.25 * np.radians(p.max_angle)
         return f, turn(self._heading_error(state, i, j), dead, p.weight)
 

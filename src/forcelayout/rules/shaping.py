@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from forcelayout import geometry as geo
 from forcelayout.rules.base import State
 
 __all__ = [
@@ -38,6 +39,7 @@ __all__ = [
     "unit",
     "signed_angle",
     "extent",
+    "view_blockers",
 ]
 
 #: Force per metre of violation of a soft rule (times the binding weight).
@@ -127,3 +129,34 @@ def extent(state: State, i: np.ndarray, u: np.ndarray) -> np.ndarray:
     # right = (fy, -fx)
     return (np.abs(fx * ux + fy * uy) * (0.5 * h[:, 1])
             + np.abs(fy * ux - fx * uy) * (0.5 * h[:, 0]))
+
+
+def view_blockers(state: State, i: np.ndarray, j: np.ndarray, height: np.ndarray | float,
+                  width: float = 0.1) -> np.ndarray:
+    """Which objects stand between ``i`` and ``j`` and are taller than ``height``.
+
+    The line of sight is the segment between the two footprint centres,
+    ``width`` metres wide; an object blocks it when its footprint overlaps
+    that strip and it is taller than ``height`` metres (seated eye level is
+    about 1.1 m). The objects ``i`` and ``j`` themselves never block.
+
+    Returns
+    -------
+    ndarray of bool, shape (B, N)
+    """
+    b, n = len(i), state.n
+    if b == 0 or n == 0:
+        return np.zeros((b, n), dtype=bool)
+    d = state.pos[j] - state.pos[i]
+    u, length = unit(d, fallback=True)
+    mid = 0.5 * (state.pos[i] + state.pos[j])
+    perp = np.stack([u[:, 1], -u[:, 0]], axis=1)
+    half = np.stack([np.full(b, 0.5 * width), 0.5 * length], axis=1)
+    sep = geo.obb_separation(state.pos[None, :, :] - mid[:, None, :], perp[:, None], u[:, None],
+                             half[:, None], state.right[None], state.front[None],
+                             state.half[None])
+    tall = state.size[None, :, 2] > np.asarray(height, dtype=float).reshape(-1, 1)
+    out = (sep < 0.0) & tall
+    out[np.arange(b), i] = False
+    out[np.arange(b), j] = False
+    return out

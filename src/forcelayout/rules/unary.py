@@ -68,7 +68,9 @@ class AtWall(Rule):
         t = back @ room.tangent.T - room.tangent_offset
         beyond = np.maximum(np.maximum(-t, t - room.length), 0.0)
         dist = np.sqrt(s * s + beyond * beyond)
-        wall = np.argmin(dist + (room.length < 0.9 * size[:, :1]) * 100.0, axis=1)
+        # ties (a back edge at a corner) go to the wall the object already turns its back to
+        facing_away = 0.01 * (1.0 - f @ room.normal.T)
+        wall = np.argmin(dist + facing_away + (room.length < 0.9 * size[:, :1]) * 100.0, axis=1)
         n, t = room.normal[wall], room.tangent[wall]
         fx, fy, nx, ny = f[:, 0], f[:, 1], n[:, 0], n[:, 1]
         fn = fx * nx + fy * ny  # front . normal

@@ -1,0 +1,109 @@
+"""Walkable covers, access zones, window clearance, clear views and repair, through the public API."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import forcelayout as fl
+from forcelayout.access import access_of
+from forcelayout.forces import ForceModel
+from forcelayout.testing import make_state
+
+ROOM = {"polygon": [[0, 0], [4, 0], [4, 3.5], [0, 3.5]], "height": 2.7,
+        "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}],
+        "windows": [{"wall": 2, "offset": 2.0, "width": 1.4, "sill": 0.9}]}
+
+
+def _living(**extra) -> fl.Plan:
+    return fl.Plan.from_dict({
+        "name": "living", "room": ROOM,
+        "objects": [
+            {"id": "sofa", "category": "sofa", "size": [2.0, 0.9, 0.8], "primary": True},
+            {"id": "table", "category": "coffee_table", "size": [1.0, 0.6, 0.45]},
+            {"id": "rug", "category": "rug", "size": [2.0, 1.4, 0.01]},
+            {"id": "shelf", "category": "bookshelf", "size": [1.0, 0.35, 2.0]},
+            *extra.get("objects", []),
+        ],
+        "rules": [
+            {"rule": "at_wall", "object": "sofa"},
+            {"rule": "in_front_of", "object": "table", "target": "sofa"},
+            {"rule": "under", "object": "rug", "target": "table"},
+            {"rule": "at_wall", "object": "shelf"},
+            *extra.get("rules", []),
+        ],
+    })
+
+
+@pytest.fixture(scope="module")
+def living_layouts():
+    return [fl.solve(_living(), seed) for seed in range(4)]
+
+
+def test_a_rug_lies_under_its_table_and_is_no_obstacle(living_layouts):
+    for lay in living_layouts:
+        assert lay.plan.object("rug").is_walkable
+        report = {r.rule: r.satisfied for r in lay.rule_report()}
+        assert report["under"] is True
+        assert not any(f.startswith("collision") and "'rug'" in f for f in lay.report.failures)
+    assert sum(lay.report.valid for lay in living_layouts) >= 3
+
+
+def test_tall_objects_keep_out_of_the_window_zone(living_layouts):
+    for lay in living_layouts:
+        assert not any(f.startswith("window") for f in lay.report.failures), lay.report.failures
+
+
+def test_access_comes_from_the_plan_then_rules_then_category():
+    plan = _living()
+    assert access_of(plan.object("sofa")).sides == ("front",)
+    assert access_of(plan.object("table")) is None
+    d = plan.model_dump()
+    d["objects"][0]["access"] = {"sides": ["left", "right"], "depth": 0.3}
+    d["objects"][3]["access"] = False
+    custom = fl.Plan.from_dict(d)
+    assert access_of(custom.object("sofa")).sides == ("left", "right")
+    assert access_of(custom.object("shelf")) is None
+
+
+def test_an_unrelated_object_is_pushed_out_of_a_wardrobe_front():
+    plan = fl.Plan.from_dict({
+        "name": "access", "room": {"polygon": [[0, 0], [4, 0], [4, 4], [0, 4]]},
+        "objects": [{"id": "wardrobe", "category": "wardrobe", "size": [1.2, 0.6, 2.0]},
+                    {"id": "chest", "category": "box", "size": [0.5, 0.5, 0.5]}]})
+    model = ForceModel(plan)
+    state = make_state([[2.0, 0.3], [2.0, 0.9]], [0.0, 0.0], [[1.2, 0.6, 2.0], [0.5, 0.5, 0.5]],
+                       room=model.room)
+    pushed = [t for t in model.terms if type(t).__name__ == "AccessTerm"][0](state, 1.0)[0]
+    assert np.linalg.norm(pushed[1]) > 0.1 and np.allclose(pushed[0], 0.0)
+
+
+def test_a_tall_object_between_breaks_a_clear_view():
+    state = make_state([[0.0, 0.0], [0.0, 3.0], [0.0, 1.5]], [0.0, 0.0, 0.0],
+                       [[2.0, 0.9, 0.8], [1.6, 0.4, 0.5], [1.0, 0.6, 2.0]])
+    facing = fl.rules.get_rule("facing")
+    p = fl.rules.ParamArrays({"max_angle": np.array([30.0]), "view_height": np.array([1.1])},
+                             np.array([1.5]))
+    i, j = np.array([0]), np.array([1])
+    assert not facing.satisfied(state, i, j, p)[0]  # a wardrobe between sofa and TV
+    low = make_state(state.pos, state.yaw, [[2.0, 0.9, 0.8], [1.6, 0.4, 0.5], [1.0, 0.6, 0.45]])
+    assert facing.satisfied(low, i, j, p)[0]  # a coffee table does not block the view
+
+
+def test_repairs_are_reported_and_can_be_turned_off():
+    plan = fl.load_plan("living_room")
+    repaired = [fl.solve(plan, seed) for seed in range(12)]
+    assert any(lay.report.repaired for lay in repaired)
+    for lay in repaired:
+        for note in lay.report.repairs:
+            assert note.startswith("moved ") and "failures" in note
+    plain = [fl.solve(plan, seed, repair=0) for seed in range(12)]
+    assert not any(lay.report.repairs for lay in plain)
+    # a repair only ever keeps a better floor
+    assert sum(lay.report.valid for lay in repaired) >= sum(lay.report.valid for lay in plain)
+
+
+def test_same_seed_same_layout_with_repairs():
+    a = fl.solve("living_room", 3)
+    b = fl.solve("living_room", 3)
+    assert a.poses == b.poses and a.report.repairs == b.report.repairs

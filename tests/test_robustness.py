@@ -1,4 +1,4 @@
-"""Walkable covers, access zones, window clearance, clear views and repair, through the public API."""
+"""Walkable covers, access zones, window clearance, clear views and repair (public API)."""
 
 from __future__ import annotations
 

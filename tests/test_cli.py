@@ -23,6 +23,20 @@ def test_rules_json_and_pattern(capsys):
     assert "near" in names and "at_wall" not in names
 
 
+def test_rules_pattern_without_a_match_says_so_and_fails(capsys):
+    assert main(["rules", "zz_no_such*"]) == 1
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert captured.err.count("\n") == 1 and "no rule matches 'zz_no_such*'" in captured.err
+
+
+def test_rules_json_says_what_each_rule_declares(capsys):
+    assert main(["rules", "under", "--json"]) == 0
+    (info,) = json.loads(capsys.readouterr().out)
+    assert info["target"] == "required" and info["surface"] == "floor" and info["bond"]
+    assert info["start"]["place"] == "beneath"
+
+
 def test_generate_writes_json_png_and_summary(tmp_path):
     out = tmp_path / "out"
     assert main(["generate", "bedroom", "-n", "2", "--out", str(out), "--quiet"]) == 0

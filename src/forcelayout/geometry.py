@@ -42,7 +42,6 @@ ENTRY_SIDE = 0.04
 
 
 
-_LOCAL_CORNERS = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
 
 
 def wrap_angle(a: np.ndarray | float) -> np.ndarray:

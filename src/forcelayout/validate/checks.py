@@ -47,7 +47,13 @@ import shapely
 from scipy import ndimage, sparse
 from scipy.sparse import csgraph
 
-from forcelayout.geometry import RoomGeometry, front_vectors, right_vectors, separation_matrix
+from forcelayout.geometry import (
+    RoomGeometry,
+    corners_from_axes,
+    front_vectors,
+    right_vectors,
+    separation_matrix,
+)
 from forcelayout.validate.occupancy import _floor_arrays, _footprint_dist2, room_grid
 
 if TYPE_CHECKING:
@@ -152,14 +158,6 @@ def _polygons(corners: np.ndarray) -> np.ndarray:
     return shapely.polygons(corners)
 
 
-def _corners(pos: np.ndarray, right: np.ndarray, front: np.ndarray, half: np.ndarray
-             ) -> np.ndarray:
-    sx = np.array([-1.0, 1.0, 1.0, -1.0])[None, :, None]
-    sy = np.array([-1.0, -1.0, 1.0, 1.0])[None, :, None]
-    return (pos[:, None, :] + sx * half[:, None, 0:1] * right[:, None, :]
-            + sy * half[:, None, 1:2] * front[:, None, :])
-
-
 def _check_positive(name: str, value: float, *, allow_zero: bool = True) -> None:
     ok = np.isfinite(value) and (value >= 0 if allow_zero else value > 0)
     if not ok:
@@ -237,7 +235,7 @@ def check_layout(
     walk = np.array([plan.object(i).is_walkable for i in ids], dtype=bool)
     height = np.array([plan.object(i).size[2] for i in ids], dtype=float)
     right, front = right_vectors(yaw), front_vectors(yaw)
-    corners = _corners(pos, right, front, half)
+    corners = corners_from_axes(pos, right, front, half)
     polys = _polygons(corners)
     solid = np.nonzero(~walk)[0]  # floor obstacles
 
@@ -339,7 +337,7 @@ def _zone_overlaps(pos: np.ndarray, right: np.ndarray, front: np.ndarray, half: 
     k, z = np.nonzero(sep < 0.0)
     if len(k) == 0:
         return []
-    squares = _polygons(_corners(zc, zr, zf, zh))
+    squares = _polygons(corners_from_axes(zc, zr, zf, zh))
     area = shapely.area(shapely.intersection(polys[cand[k]], squares[z]))
     bad = area > max_overlap
     return [(int(cand[a]), int(b)) for a, b in zip(k[bad], z[bad], strict=True)]
@@ -403,13 +401,6 @@ def _windows(ids: list[str], pos: np.ndarray, right: np.ndarray, front: np.ndarr
     return out
 
 
-def _pose_corners(layout: Layout, oid: str) -> np.ndarray:
-    p = layout.poses[oid]
-    yaw = np.array([p.yaw])
-    return _corners(np.array([[p.x, p.y]]), right_vectors(yaw), front_vectors(yaw),
-                    0.5 * np.array([layout.plan.object(oid).size[:2]], dtype=float))[0]
-
-
 def _surfaces(layout: Layout, max_overlap: float) -> list[str]:
     out: list[str] = []
     poses = layout.poses
@@ -420,7 +411,7 @@ def _surfaces(layout: Layout, max_overlap: float) -> list[str]:
         p = poses[oid]
         surf = p.surface
         if surf == "ceiling":
-            c = _pose_corners(layout, oid)
+            c = layout.corners(oid)
             if _surely_inside(c[None], room)[0]:
                 continue
             a = shapely.area(shapely.difference(shapely.Polygon(c), room.shape))
@@ -429,8 +420,8 @@ def _surfaces(layout: Layout, max_overlap: float) -> list[str]:
         elif surf.startswith("wall:"):
             out += _wall_surface(oid, p, plan.object(oid).size, surf, room)
         elif surf in poses:
-            c = _pose_corners(layout, oid)
-            top = _pose_corners(layout, surf)
+            c = layout.corners(oid)
+            top = layout.corners(surf)
             # the parent's top is convex: inside when every corner of the child is
             ex, ey = top[1] - top[0], top[3] - top[0]
             rel = c - top.mean(0)

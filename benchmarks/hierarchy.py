@@ -131,7 +131,7 @@ def main() -> None:
     args = ap.parse_args()
     out = []
     for name in args.plans:
-        plan = fl.examples.load_example(name)
+        plan = fl.load_plan(name)  # a bundled name or a path
         row: dict = {"plan": name, "objects": len(plan.objects)}
         for label, h in (("flat", False), ("hierarchy", True)):
             row[label] = run_path(plan, options(h, args.variants), args.samples, args.seed)

@@ -25,7 +25,7 @@ from forcelayout.layout import Layout, Pose
 from forcelayout.rules.base import ParamArrays
 from forcelayout.validate import check_layout
 
-__all__ = ["parents", "initial_poses", "propose_poses"]
+__all__ = ["parents", "initial_poses", "propose_poses", "relocate"]
 
 #: Start places beside the parent, where wall length is kept free next to it.
 _SIDE_PLACES = frozenset({"beside", "left", "right"})
@@ -331,8 +331,12 @@ def initial_poses(
     tried elsewhere before any simulation time is spent on it.
     """
     best, best_score = None, -1.0
+    placer = _Placer(model) if model.n else None
     for _ in range(max(1, restarts)):
-        pos, yaw = propose_poses(model, rng, tries=tries, spread=spread)
+        pos = np.zeros((model.n, 2))
+        yaw = rng.uniform(-np.pi, np.pi, model.n)
+        if placer is not None:
+            pos, yaw = _propose(model, placer, rng, pos, yaw, tries, spread)
         met = model.satisfied(model.state(pos, yaw))
         score = float(sum(met.values()))
         if score == len(met):  # every rule met: take it if it also passes the checks
@@ -382,31 +386,83 @@ def propose_poses(
     pos : ndarray, shape (N, 2)
     yaw : ndarray, shape (N,)
     """
-    room = model.room
     n = model.n
     pos = np.zeros((n, 2))
     yaw = rng.uniform(-np.pi, np.pi, n)
     if n == 0:
         return pos, yaw
-    half = model.size[:, :2] * 0.5
-    radius = np.hypot(half[:, 0], half[:, 1])
-    parent = parents(model)
-    wants = _wants(model)
-    walkable = model.walkable
-    by_object = _bindings_of(model)
-    window = next((t for t in model.terms if isinstance(t, WindowTerm)), None)
-    order = _order(parent, model.size[:, 0] * model.size[:, 1])
-    # wall length to keep free beside a parent for children standing beside it
-    margin = np.zeros(n)
-    for c in range(n):
-        if parent[c] >= 0 and "wall" in wants[c].places and wants[c].places & _SIDE_PLACES:
-            margin[parent[c]] = max(margin[parent[c]], model.size[c, 0] + 0.1)
-    lo, hi = room.bounds[:2], room.bounds[2:]
-    floor = room.shape
-    shapely.prepare(floor)
-    dc, dr, df, dh = room.door_zones
+    return _propose(model, _Placer(model), rng, pos, yaw, tries, spread)
+
+
+def _propose(model: ForceModel, placer: _Placer, rng: np.random.Generator, pos: np.ndarray,
+             yaw: np.ndarray, tries: int, spread: float) -> tuple[np.ndarray, np.ndarray]:
     placed: list[int] = []
-    for r in order:
+    for r in placer.order:
+        placer.place(r, placed, pos, yaw, rng, tries, spread)
+        placed.append(r)
+    return pos, yaw
+
+
+def relocate(model: ForceModel, rows: list[int] | np.ndarray, pos: np.ndarray, yaw: np.ndarray,
+             rng: np.random.Generator, *, tries: int = 16, spread: float = 0.3
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """New start poses for some objects, the others staying where they are.
+
+    Each object of ``rows`` (parents first) draws candidates from the
+    proposal its rules choose and takes the best one, judged as in
+    :func:`propose_poses` against every other object: used to repair a
+    sample by moving an object that settled in a bad spot somewhere else.
+
+    Returns
+    -------
+    pos, yaw : ndarray
+        Copies of the poses with the rows moved.
+    """
+    pos, yaw = pos.copy(), yaw.copy()
+    placer = _Placer(model)
+    moving = {int(r) for r in rows}
+    placed = [r for r in range(model.n) if r not in moving]
+    for r in placer.order:
+        if r in moving:
+            placer.place(r, placed, pos, yaw, rng, tries, spread)
+            placed.append(r)
+    return pos, yaw
+
+
+class _Placer:
+    """Draws and judges candidate poses for one object at a time."""
+
+    def __init__(self, model: ForceModel):
+        room = model.room
+        n = model.n
+        self.model, self.room = model, room
+        self.half = half = model.size[:, :2] * 0.5
+        self.radius = np.hypot(half[:, 0], half[:, 1])
+        self.parent = parent = parents(model)
+        self.wants = wants = _wants(model)
+        self.walkable = model.walkable
+        self.by_object = _bindings_of(model)
+        self.window = next((t for t in model.terms if isinstance(t, WindowTerm)), None)
+        self.order = _order(parent, model.size[:, 0] * model.size[:, 1])
+        # wall length to keep free beside a parent for children standing beside it
+        margin = np.zeros(n)
+        for c in range(n):
+            if parent[c] >= 0 and "wall" in wants[c].places and wants[c].places & _SIDE_PLACES:
+                margin[parent[c]] = max(margin[parent[c]], model.size[c, 0] + 0.1)
+        self.margin = margin
+        self.lo, self.hi = room.bounds[:2], room.bounds[2:]
+        self.floor = room.shape
+        shapely.prepare(self.floor)
+
+    def place(self, r: int, placed: list[int], pos: np.ndarray, yaw: np.ndarray,
+              rng: np.random.Generator, tries: int, spread: float) -> None:
+        """Choose a pose for row ``r`` given the ``placed`` rows; writes ``pos[r], yaw[r]``."""
+        model, room = self.model, self.room
+        half, radius, parent, wants = self.half, self.radius, self.parent, self.wants
+        walkable, by_object, window, margin = self.walkable, self.by_object, self.window, \
+            self.margin
+        lo, hi, floor = self.lo, self.hi, self.floor
+        dc, dr, df, dh = room.door_zones
         w = wants[r]
         places = w.places
         q = int(parent[r])
@@ -482,5 +538,3 @@ def propose_poses(
             pos[r], yaw[r] = cand[k], cyaw[k]
         else:  # no candidate inside the floor: the centroid, and let the walls push
             pos[r] = room.centroid
-        placed.append(r)
-    return pos, yaw

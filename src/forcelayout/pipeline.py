@@ -85,7 +85,7 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options
     pos, yaw, steps, repairs = res.pos, res.yaw, res.steps, []
     if opts.repair > 0 and model.n:
         pos, yaw, extra, repairs = repair_floor(model, pos, yaw, opts.solver, rounds=opts.repair,
-                                                check_kwargs=opts.check_kwargs)
+                                                check_kwargs=opts.check_kwargs, rng=rng)
         steps += extra
         yaw = (yaw + np.pi) % (2 * np.pi) - np.pi
     poses = {oid: Pose(float(p[0]), float(p[1]), float(y))

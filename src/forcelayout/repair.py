@@ -21,6 +21,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from forcelayout.forces import ForceModel, PassageTerm
+from forcelayout.initial import relocate
 from forcelayout.layout import Layout, Pose
 from forcelayout.options import SolverConfig
 from forcelayout.solver import simulate
@@ -91,9 +92,14 @@ def judge_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
 
 def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: SolverConfig,
                  *, rounds: int = 2, steps: int = 80, check_kwargs: dict | None = None,
-                 verdict: FloorVerdict | None = None
+                 verdict: FloorVerdict | None = None, rng: np.random.Generator | None = None
                  ) -> tuple[np.ndarray, np.ndarray, int, list[str]]:
     """Repair a settled floor arrangement by moving only the objects at fault.
+
+    Round 1 resettles the objects at fault where they are; later rounds (given
+    ``rng``) first move them to new spots drawn as start poses are
+    (:func:`forcelayout.initial.relocate`: another wall, another corner, the
+    other side of their parent), then resettle them.
 
     Parameters
     ----------
@@ -110,6 +116,8 @@ def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: So
         Thresholds of the checks.
     verdict : FloorVerdict, optional
         The verdict on ``pos, yaw`` if already known.
+    rng : numpy.random.Generator, optional
+        Source of the new spots; without it every round resettles in place.
 
     Returns
     -------
@@ -125,23 +133,28 @@ def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: So
     spent, notes = 0, []
     cfg = replace(config, max_steps=max(1, min(config.max_steps, steps)),
                   min_steps=min(config.min_steps, 20))
-    for _ in range(max(0, rounds)):
+    for k in range(max(0, rounds)):
         if verdict.ok or not verdict.at_fault:
             break
         movers = np.zeros(model.n, dtype=bool)
         movers[sorted(verdict.at_fault)] = True
+        start_pos, start_yaw, how = pos, yaw, "resettled"
+        if k > 0 and rng is not None:
+            start_pos, start_yaw = relocate(model, np.flatnonzero(movers), pos, yaw, rng)
+            how = "moved elsewhere"
         walkway = _walkway(model, movers)
         model.add_term(walkway)
         try:
-            res = simulate(model, pos, yaw, cfg, fixed=~movers)
+            res = simulate(model, start_pos, start_yaw, cfg, fixed=~movers)
         finally:
             model.terms.remove(walkway)
         spent += res.steps
         after = judge_floor(model, res.pos, res.yaw, check_kwargs)
         if len(after.failures) >= len(verdict.failures):
-            break
+            continue
         moved = ", ".join(model.ids[r] for r in np.flatnonzero(movers))
-        notes.append(f"moved {moved}: {len(verdict.failures)} -> {len(after.failures)} failures")
+        notes.append(f"{how} {moved}: {len(verdict.failures)} -> {len(after.failures)} "
+                     "failures")
         pos, yaw, verdict = res.pos, res.yaw, after
     return pos, yaw, spent, notes
 

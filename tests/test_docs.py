@@ -60,6 +60,9 @@ PUBLIC_MODULES = (
     "forcelayout.options",
     "forcelayout.sources",
     "forcelayout.access",
+    "forcelayout.clearance",
+    "forcelayout.repair",
+    "forcelayout.baselines",
 )
 #: Optional subpackages: checked only when their extra is installed.
 OPTIONAL_MODULES = (("forcelayout.export", "trimesh"), ("forcelayout.llm", "openai"))

@@ -113,6 +113,6 @@ class Options:
     check: bool = True
     check_kwargs: dict[str, Any] = field(default_factory=dict)
     hierarchy: bool = False
-    repair: int = 2
+    repair: int = 6
     variants: int = 6
     variant_seed: int = 0

@@ -99,7 +99,8 @@ def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: So
     Round 1 resettles the objects at fault where they are; later rounds (given
     ``rng``) first move them to new spots drawn as start poses are
     (:func:`forcelayout.initial.relocate`: another wall, another corner, the
-    other side of their parent), then resettle them.
+    other side of their parent), then resettle them. Three rounds in a row that
+    do not help end the repair.
 
     Parameters
     ----------
@@ -133,8 +134,9 @@ def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: So
     spent, notes = 0, []
     cfg = replace(config, max_steps=max(1, min(config.max_steps, steps)),
                   min_steps=min(config.min_steps, 20))
+    idle = 0  # rounds in a row that did not help
     for k in range(max(0, rounds)):
-        if verdict.ok or not verdict.at_fault:
+        if verdict.ok or not verdict.at_fault or idle >= 3:
             break
         movers = np.zeros(model.n, dtype=bool)
         movers[sorted(verdict.at_fault)] = True
@@ -151,7 +153,9 @@ def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: So
         spent += res.steps
         after = judge_floor(model, res.pos, res.yaw, check_kwargs)
         if len(after.failures) >= len(verdict.failures):
+            idle += 1
             continue
+        idle = 0
         moved = ", ".join(model.ids[r] for r in np.flatnonzero(movers))
         notes.append(f"{how} {moved}: {len(verdict.failures)} -> {len(after.failures)} "
                      "failures")

@@ -23,6 +23,7 @@ from forcelayout.rules.shaping import (
     extent,
     ramp,
     signed_angle,
+    square_error,
     turn,
     unit,
     view_blockers,
@@ -351,8 +352,7 @@ class AlignedWith(Rule):
         on_fb = np.abs(lat) <= np.abs(a)
         off = np.where(on_fb, lat, a)
         axis = np.where(on_fb[:, None], r, f)
-        rel = state.yaw[j] - state.yaw[i]
-        err = np.arctan2(np.sin(4.0 * rel), np.cos(4.0 * rel)) / 4.0
+        err = square_error(state.yaw[i], state.yaw[j])
         return off, axis, err
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
@@ -441,8 +441,7 @@ class Under(Rule):
 
     @staticmethod
     def _heading_error(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
-        rel = state.yaw[j] - state.yaw[i]
-        return np.arctan2(np.sin(4.0 * rel), np.cos(4.0 * rel)) / 4.0
+        return square_error(state.yaw[i], state.yaw[j])
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         x, y = self._local(state, i, j)  # the target's centre in the object's frame

@@ -38,6 +38,7 @@ __all__ = [
     "turn",
     "unit",
     "signed_angle",
+    "square_error",
     "extent",
     "view_blockers",
 ]
@@ -120,6 +121,16 @@ def signed_angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     cross = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
     dot = (a * b).sum(-1)
     return np.arctan2(cross, dot)
+
+
+def square_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Signed angle from heading ``a`` to the nearest of ``b + k * 90°``, radians in [-pi/4, pi/4].
+
+    How far an object must turn (CCW positive) to be square with another
+    object or a wall of direction ``b``.
+    """
+    rel = 4.0 * (np.asarray(b) - np.asarray(a))
+    return np.arctan2(np.sin(rel), np.cos(rel)) / 4.0
 
 
 def extent(state: State, i: np.ndarray, u: np.ndarray) -> np.ndarray:

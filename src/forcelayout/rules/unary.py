@@ -17,7 +17,15 @@ import numpy as np
 from pydantic import Field
 
 from forcelayout.rules.base import ParamArrays, Rule, StartHint, State
-from forcelayout.rules.shaping import CAP, HARD_GAIN, TURN_HARD, extent, ramp, unit
+from forcelayout.rules.shaping import (
+    CAP,
+    HARD_GAIN,
+    TURN_HARD,
+    extent,
+    ramp,
+    square_error,
+    unit,
+)
 
 __all__ = ["AtWall", "InCorner", "InMiddle", "NearWindow", "NearDoor", "AwayFromDoor"]
 
@@ -132,8 +140,7 @@ class InCorner(Rule):
         w = p.weight
         f = _wall_pull(state, i, prev[c], w) + _wall_pull(state, i, k[c], w)
         # turn to the nearest multiple of 90 degrees relative to the corner's walls
-        rel = 4.0 * (angle[c] - state.yaw[i])
-        err = np.arctan2(np.sin(rel), np.cos(rel)) / 4.0
+        err = square_error(state.yaw[i], angle[c])
         return f, w * TURN_HARD * err
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):

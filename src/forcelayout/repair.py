@@ -21,7 +21,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from forcelayout.forces import ForceModel, PassageTerm
-from forcelayout.initial import relocate
+from forcelayout.initial import parents, relocate
 from forcelayout.layout import Layout, Pose
 from forcelayout.options import SolverConfig
 from forcelayout.solver import simulate
@@ -135,6 +135,7 @@ def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: So
     cfg = replace(config, max_steps=max(1, min(config.max_steps, steps)),
                   min_steps=min(config.min_steps, 20))
     idle = 0  # rounds in a row that did not help
+    parent = parents(model)
     for k in range(max(0, rounds)):
         if verdict.ok or not verdict.at_fault or idle >= 3:
             break
@@ -142,6 +143,8 @@ def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: So
         movers[sorted(verdict.at_fault)] = True
         start_pos, start_yaw, how = pos, yaw, "resettled"
         if k > 0 and rng is not None:
+            # an object moves elsewhere with the objects that start beside it (its children)
+            movers |= np.isin(parent, np.flatnonzero(movers))
             start_pos, start_yaw = relocate(model, np.flatnonzero(movers), pos, yaw, rng)
             how = "moved elsewhere"
         walkway = _walkway(model, movers)

@@ -8,6 +8,7 @@ import sys
 import pytest
 
 from forcelayout.cli import main
+from sample_plans import SHELVES
 
 
 def test_rules_lists_the_vocabulary(capsys):
@@ -86,15 +87,6 @@ def test_validate_skips_files_that_are_not_layouts(tmp_path, capsys):
     assert "bedroom_000.json: ok" in text
 
 
-SHELVES = {  # eight tall shelves bound to the walls of a 3 x 2.4 m room: more wall than there is
-    "name": "shelves",
-    "room": {"polygon": [[0, 0], [3, 0], [3, 2.4], [0, 2.4]],
-             "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}],
-             "windows": [{"wall": 2, "offset": 1.5, "width": 1.0}]},
-    "objects": [{"id": f"shelf_{k}", "category": "bookshelf", "size": [1.2, 0.35, 2.0]}
-                for k in range(8)],
-    "rules": [{"rule": "at_wall", "object": f"shelf_{k}"} for k in range(8)],
-}
 
 
 def test_generate_warns_early_and_ends_with_a_one_line_hint(tmp_path, capsys):

@@ -3,7 +3,8 @@
 A wardrobe is opened from its front, a desk is sat at from its front, a bed
 is got into from a long side. Each such object has an **access zone** — a
 rectangle as wide as the side and ``depth`` metres deep in front of it — and
-:class:`AccessTerm`, an always-on force term of the floor simulation, pushes
+:class:`AccessTerm`, a force term of the floor simulation (full strength at every
+temperature, sampled with the rules every ``semantic_interval`` steps), pushes
 every other solid object out of it (sideways or further out, whichever is
 shorter), except objects a rule relates to the owner (the chair in front of
 the desk, the nightstand beside the bed) and walkable covers. An object with
@@ -83,7 +84,11 @@ def access_of(obj: SceneObject, bindings: Sequence[Binding] = ()) -> Access | No
 
 
 class AccessTerm:
-    """Pushes solid objects out of the access zones of the others (always on).
+    """Pushes solid objects out of the access zones of the others.
+
+    Not weakened by the annealing; ``annealed = True`` only means it is
+    sampled with the rules (every ``SolverConfig.semantic_interval`` steps):
+    the zones move slowly.
 
     Parameters
     ----------
@@ -99,7 +104,7 @@ class AccessTerm:
         Force per metre of intrusion (capped at ``1.5 * strength / 10``).
     """
 
-    annealed = False
+    annealed = True
 
     def __init__(self, owner: np.ndarray, direction: np.ndarray, depth: np.ndarray,
                  exempt: np.ndarray, strength: float = 10.0):

@@ -64,7 +64,10 @@ def push_out(f: np.ndarray, state: State, centre: np.ndarray, out: np.ndarray,
 
 
 class WindowTerm:
-    """Pushes floor objects taller than a window's sill out of its clearance zone (always on).
+    """Pushes floor objects taller than a window's sill out of its clearance zone.
+
+    Not weakened by the annealing; sampled with the rules (every
+    ``SolverConfig.semantic_interval`` steps).
 
     Parameters
     ----------
@@ -83,7 +86,7 @@ class WindowTerm:
         Rows pushed along the wall only (held at it by a hard rule).
     """
 
-    annealed = False
+    annealed = True
 
     def __init__(self, centre: np.ndarray, lateral: np.ndarray, out: np.ndarray,
                  half: np.ndarray, sill: np.ndarray, height: np.ndarray, exempt: np.ndarray,

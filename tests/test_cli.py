@@ -38,6 +38,29 @@ def test_rules_json_says_what_each_rule_declares(capsys):
     assert info["start"]["place"] == "beneath"
 
 
+@pytest.mark.parametrize("args, reason", [
+    (["-n", "-1"], "-1 is less than 0"), (["-n", "2.5"], "'2.5' is not a whole number"),
+    (["--workers", "0"], "0 is less than 1"), (["--workers", "-3"], "-3 is less than 1"),
+])
+def test_generate_refuses_bad_counts_in_one_line(args, reason, tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "forcelayout.cli", "generate", "bedroom",
+                           "--out", str(tmp_path / "o"), *args],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2
+    assert reason in proc.stderr and "Traceback" not in proc.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_validate_and_render_fail_on_files_that_are_not_layouts(tmp_path, capsys):
+    bogus = tmp_path / "bogus.json"
+    bogus.write_text('{"a": 1}', encoding="utf-8")
+    assert main(["validate", "bedroom", str(bogus)]) == 1
+    assert "not a layout" in capsys.readouterr().err
+    assert main(["render", "bedroom", str(bogus)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "not a layout" in err
+
+
 def test_generate_writes_json_png_and_summary(tmp_path):
     out = tmp_path / "out"
     assert main(["generate", "bedroom", "-n", "2", "--out", str(out), "--quiet"]) == 0
@@ -77,14 +100,16 @@ def test_entry_point_is_installed(args):
     assert proc.returncode == 0
 
 
-def test_validate_skips_files_that_are_not_layouts(tmp_path, capsys):
+def test_validate_reports_files_that_are_not_layouts_and_fails(tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["generate", "bedroom", "-n", "1", "--out", str(out), "--quiet"]) == 0
     files = sorted(out.glob("*.json"))  # plan.json and summary.json as well, as a glob gives
-    assert main(["validate", str(out / "plan.json"), *map(str, files)]) == 0
-    text = capsys.readouterr().out
-    assert "summary.json: skipped, not a layout" in text
-    assert "bedroom_000.json: ok" in text
+    assert main(["validate", str(out / "plan.json"), *map(str, files)]) == 1
+    captured = capsys.readouterr()
+    assert "summary.json: not a layout" in captured.err
+    assert "bedroom_000.json: ok" in captured.out
+    layouts = sorted(out.glob("bedroom_*.json"))
+    assert main(["validate", str(out / "plan.json"), *map(str, layouts)]) == 0
 
 
 

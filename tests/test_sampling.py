@@ -209,3 +209,14 @@ def test_the_share_of_rules_met_reads_below_its_threshold():
     assert float(shown) < float(below)
     assert float(below) == pytest.approx(100 * need)
     assert "far_from(nightstand, bed)" in line
+
+
+@pytest.mark.parametrize("n", [2.5, -1, True, "3"])
+def test_generate_wants_a_whole_number_of_layouts(n):
+    with pytest.raises(ValueError, match="whole number"):
+        fl.generate("bedroom", n)
+
+
+def test_generate_wants_a_whole_number_of_attempts():
+    with pytest.raises(ValueError, match="max_attempts must be a whole number"):
+        fl.generate("bedroom", 1, max_attempts=2.5)

@@ -66,7 +66,8 @@ def _cmd_validate(args: argparse.Namespace) -> int:
         try:
             lay = Layout.load(path, plan)
         except (ValueError, KeyError, TypeError) as e:
-            print(f"{path}: skipped, not a layout of plan {plan.name!r}: {e}")
+            print(f"{path}: not a layout of plan {plan.name!r}: {e}", file=sys.stderr)
+            bad += 1
             continue
         rep = check_layout(lay)
         sat = lay.rule_satisfaction
@@ -84,11 +85,29 @@ def _cmd_render(args: argparse.Namespace) -> int:
 
     plan = load_plan(args.plan)
     for path in args.layouts:
-        lay = Layout.load(path, plan)
+        try:
+            lay = Layout.load(path, plan)
+        except (ValueError, KeyError, TypeError) as e:
+            print(f"error: {path}: not a layout of plan {plan.name!r}: {e}", file=sys.stderr)
+            return 2
         out = Path(path).with_suffix(f".{args.format}")
         lay.picture(out)
         print(out)
     return 0
+
+
+def _count(least: int):
+    """An argparse type: a whole number of at least ``least``, refused with the reason."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+        if value < least:
+            raise argparse.ArgumentTypeError(f"{value} is less than {least}")
+        return value
+    parse.__name__ = f"whole number >= {least}"
+    return parse
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -103,11 +122,11 @@ def build_parser() -> argparse.ArgumentParser:
     g = sub.add_parser("generate", help="generate layouts of a plan (JSON + PNG per layout)")
     g.add_argument("plan", nargs="?", help="plan JSON file or a bundled plan name "
                    "(bedroom, living_room, home_office, l_shaped_studio)")
-    g.add_argument("-n", type=int, default=10, help="layouts wanted (default 10)")
+    g.add_argument("-n", type=_count(0), default=10, help="layouts wanted (default 10)")
     g.add_argument("--out", type=Path, required=True, help="output folder")
-    g.add_argument("--seed", type=int, default=0, help="seed of the run (default 0)")
-    g.add_argument("--workers", type=int, default=1, help="processes (default 1)")
-    g.add_argument("--max-attempts", type=int, default=None, help="sample budget")
+    g.add_argument("--seed", type=_count(0), default=0, help="seed of the run (default 0)")
+    g.add_argument("--workers", type=_count(1), default=1, help="processes (default 1)")
+    g.add_argument("--max-attempts", type=_count(0), default=None, help="sample budget")
     g.add_argument("--format", choices=["png", "svg", "none"], default="png",
                    help="picture per layout (default png)")
     g.add_argument("--no-relations", action="store_true", help="ablation: no relation forces")

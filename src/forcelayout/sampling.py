@@ -331,13 +331,16 @@ def generate(
         After the run, when fewer than ``n`` layouts were accepted: accepted
         of attempted, the dominant cause and what to try.
     """
-    if n < 0:
-        raise ValueError(f"n must be >= 0, got {n}")
+    if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 0:
+        raise ValueError(f"n must be a whole number >= 0, got {n!r}")
     opts = _options(options, kwargs)
     plan = load_plan(plan)
     from forcelayout.pipeline import prepare
 
     prepare(plan)  # plan-level problems surface before any sample runs
+    if max_attempts is not None and (isinstance(max_attempts, bool)
+                                     or not isinstance(max_attempts, int | np.integer)):
+        raise ValueError(f"max_attempts must be a whole number >= 0, got {max_attempts!r}")
     budget = max(4 * n, n + 20) if max_attempts is None else int(max_attempts)
     if budget < 0:
         raise ValueError(f"max_attempts must be >= 0, got {max_attempts}")

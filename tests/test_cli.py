@@ -61,6 +61,20 @@ def test_validate_and_render_fail_on_files_that_are_not_layouts(tmp_path, capsys
     assert err.count("\n") == 1 and "not a layout" in err
 
 
+def test_an_unexpected_error_is_one_line_unless_debug(tmp_path, capsys, monkeypatch):
+    import forcelayout.cli as cli
+
+    def boom(args):
+        raise RuntimeError("disk on fire")
+
+    monkeypatch.setattr(cli, "_cmd_rules", boom)
+    assert main(["rules"]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "disk on fire" in err and "--debug" in err
+    with pytest.raises(RuntimeError):
+        main(["--debug", "rules"])
+
+
 def test_generate_writes_json_png_and_summary(tmp_path):
     out = tmp_path / "out"
     assert main(["generate", "bedroom", "-n", "2", "--out", str(out), "--quiet"]) == 0

@@ -7,6 +7,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import forcelayout as fl
 from forcelayout.diagnose import (
@@ -220,3 +221,24 @@ def test_generate_wants_a_whole_number_of_layouts(n):
 def test_generate_wants_a_whole_number_of_attempts():
     with pytest.raises(ValueError, match="max_attempts must be a whole number"):
         fl.generate("bedroom", 1, max_attempts=2.5)
+
+
+@settings(max_examples=40, deadline=None)
+@given(points=st.lists(st.tuples(st.floats(0, 0.3), st.floats(0, 0.3), st.floats(0, 0.3)),
+                       min_size=1, max_size=40),
+       tol=st.sampled_from([0.0, 0.02, 0.05, 0.1]))
+def test_distinct_layouts_agrees_with_comparing_every_pair(points, tol):
+    plan = fl.Plan.from_dict({
+        "name": "dots", "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]]},
+        "objects": [{"id": f"o{k}", "category": "box", "size": [0.1, 0.1, 0.1]}
+                    for k in range(2)]})
+    layouts = [fl.Layout(plan, {"o0": fl.Pose(1 + a, 1 + b, 0.0), "o1": fl.Pose(2 + c, 2.0, 0.0)})
+               for a, b, c in points]
+    seen = fl.sampling.DistinctLayouts(tol)
+    kept: list[np.ndarray] = []
+    for lay in layouts:
+        v = np.array([[p.x, p.y] for p in lay.poses.values()]).ravel()
+        brute = tol <= 0 or all(np.abs(v - w).max() >= tol for w in kept)
+        assert seen.add_if_new(lay) == brute
+        if brute:
+            kept.append(v)

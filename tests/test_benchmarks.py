@@ -105,3 +105,9 @@ def test_scripts_reject_bad_arguments(script: str) -> None:
                           text=True, timeout=60, cwd=ROOT)
     assert proc.returncode == 2
     assert "must be >= 1" in proc.stderr
+
+
+def test_distinct_agrees_with_all_pairs() -> None:
+    data, _ = run("distinct.py", "--n", "20", "60")
+    assert [r["n"] for r in data["results"]] == [20, 60]
+    assert all(r["agree"] for r in data["results"])

@@ -242,3 +242,12 @@ def test_distinct_layouts_agrees_with_comparing_every_pair(points, tol):
         assert seen.add_if_new(lay) == brute
         if brute:
             kept.append(v)
+
+
+def test_the_same_sample_writes_the_same_bytes(tmp_path):
+    a = fl.solve("bedroom", 4).to_json()
+    b = fl.solve("bedroom", 4).to_json()
+    assert a == b
+    assert '"seconds"' not in a and '"stages"' not in a
+    plan = fl.load_plan("bedroom")
+    assert fl.Layout.from_json(a, plan).poses == fl.Layout.from_json(b, plan).poses

@@ -28,6 +28,9 @@ if TYPE_CHECKING:
 
 __all__ = ["Pose", "RuleResult", "SampleReport", "Layout"]
 
+#: SampleReport fields that measure time, left out of layout files.
+_TIMINGS = frozenset({"seconds", "stages"})
+
 
 @dataclass(frozen=True)
 class Pose:
@@ -196,7 +199,11 @@ class Layout:
 
     # -- JSON -------------------------------------------------------------------
     def to_dict(self, *, include_plan: bool = False) -> dict[str, Any]:
-        """Plain-data form: ``{"plan": name, "seed": s, "objects": {id: pose}, "report": ...}``."""
+        """Plain-data form: ``{"plan": name, "seed": s, "objects": {id: pose}, "report": ...}``.
+
+        The report leaves out the wall-clock timings (``seconds``, ``stages``),
+        so the same plan and seed always give the same JSON bytes.
+        """
         d: dict[str, Any] = {
             "plan": self.plan.name,
             "seed": self.seed,
@@ -204,7 +211,8 @@ class Layout:
                 oid: {"x": p.x, "y": p.y, "yaw": p.yaw, "z": p.z, "surface": p.surface}
                 for oid, p in self.poses.items()
             },
-            "report": asdict(self.report),
+            # timings stay out of the file: the same sample gives the same bytes
+            "report": {k: v for k, v in asdict(self.report).items() if k not in _TIMINGS},
             "rules": [asdict(r) for r in self.rule_report()],
         }
         if include_plan:

@@ -91,7 +91,6 @@ class WindowTerm:
     def __init__(self, centre: np.ndarray, lateral: np.ndarray, out: np.ndarray,
                  half: np.ndarray, sill: np.ndarray, height: np.ndarray, exempt: np.ndarray,
                  strength: float = 10.0, slide: np.ndarray | None = None):
-        self.centre, self.lateral, self.out, self.half = centre, lateral, out, half
         keep = half[:, 1] > 0  # a zone of depth 0 is switched off
         self.centre, self.lateral, self.out, self.half = (a[keep] for a in (
             centre, lateral, out, half))

@@ -38,6 +38,7 @@ from forcelayout.geometry import RoomGeometry
 from forcelayout.plan import Plan
 from forcelayout.rules.base import State
 from forcelayout.rules.physical import PhysicalWeights, physical, repulsion
+from forcelayout.validate.checks import window_zones
 
 __all__ = [
     "ForceTerm",
@@ -244,13 +245,9 @@ class ForceModel:
 
     def _window_term(self, strength: float) -> WindowTerm:
         """Floor objects taller than a window's sill kept out of its clearance zone."""
-        win = self.room.windows
-        depth = np.array([w.clearance for w in self.plan.room.windows], dtype=float)
-        sill = np.array([w.sill for w in self.plan.room.windows], dtype=float)
-        centre = win.centre + win.normal * depth[:, None] * 0.5
-        half = np.stack([win.width * 0.5, depth * 0.5], axis=1)
-        return WindowTerm(centre, win.tangent, win.normal, half, sill, self.size[:, 2],
-                          self.walkable, 10.0 * strength, slide=self.held)
+        centre, along, into, half, sill = window_zones(self.plan.room)  # what the check uses
+        return WindowTerm(centre, along, into, half, sill, self.size[:, 2], self.walkable,
+                          10.0 * strength, slide=self.held)
 
     @property
     def n(self) -> int:

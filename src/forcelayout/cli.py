@@ -1,6 +1,6 @@
 """The ``forcelayout`` command line.
 
-Sub-commands: ``generate``, ``rules``, ``validate``, ``render``; optional
+Sub-commands: ``generate``, ``dataset``, ``rules``, ``validate``, ``render``; optional
 subpackages add their own (``plan`` from ``forcelayout.llm``) through a
 ``register(subparsers)`` function in their ``cli`` module. A missing extra
 turns into a command that says which extra to install.
@@ -25,6 +25,12 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     from forcelayout.generate_cmd import run_generate
 
     return run_generate(args)
+
+
+def _cmd_dataset(args: argparse.Namespace) -> int:
+    from forcelayout.dataset_cmd import run_dataset
+
+    return run_dataset(args)
 
 
 def _cmd_rules(args: argparse.Namespace) -> int:
@@ -145,6 +151,10 @@ def build_parser() -> argparse.ArgumentParser:
         add_client_options(g)
     g.set_defaults(func=_cmd_generate)
 
+    from forcelayout.dataset_cmd import add_dataset_parser
+
+    add_dataset_parser(sub, _count).set_defaults(func=_cmd_dataset)
+
     r = sub.add_parser("rules", help="list the rule vocabulary")
     r.add_argument("pattern", nargs="?", default="*", help="shell pattern, e.g. 'near*'")
     r.add_argument("--json", action="store_true", help="print JSON")
@@ -182,12 +192,14 @@ def _missing(extra: str) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
+    from forcelayout.dataset import DatasetError
     from forcelayout.errors import MissingExtraError, PlanError, UnknownRuleError
 
     args = build_parser().parse_args(argv)
     try:
         return int(args.func(args) or 0)
-    except (PlanError, UnknownRuleError, MissingExtraError, FileNotFoundError) as e:
+    except (PlanError, UnknownRuleError, MissingExtraError, FileNotFoundError,
+            DatasetError) as e:
         if args.debug:
             raise
         print(f"error: {e}", file=sys.stderr)

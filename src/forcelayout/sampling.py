@@ -11,6 +11,7 @@ so the result does not depend on the executor or the number of workers.
 
 from __future__ import annotations
 
+import collections
 import itertools
 import math
 import time
@@ -36,7 +37,16 @@ from forcelayout.options import Options
 from forcelayout.plan import Plan
 from forcelayout.sources import load_plan
 
-__all__ = ["Options", "Generation", "DistinctLayouts", "solve", "generate", "sample_seed"]
+__all__ = [
+    "Options",
+    "Generation",
+    "DistinctLayouts",
+    "solve",
+    "generate",
+    "iter_samples",
+    "executor_workers",
+    "sample_seed",
+]
 
 
 def sample_seed(seed: int, index: int) -> int:
@@ -315,6 +325,90 @@ class DistinctLayouts:
         return True
 
 
+def executor_workers(executor: Executor | None) -> int:
+    """How many samples ``executor`` runs at once (1 for none; a guess for unknown kinds).
+
+    Knows ``ProcessPoolExecutor``/``ThreadPoolExecutor`` and Dask's
+    ``Client.get_executor()``; any other executor may say so with a
+    ``max_workers`` attribute.
+    """
+    if executor is None:
+        return 1
+    for name in ("max_workers", "_max_workers"):
+        value = getattr(executor, name, None)
+        if isinstance(value, int) and value > 0:
+            return value
+    client = getattr(executor, "_client", None)  # distributed.client.ClientExecutor
+    if client is not None:
+        try:
+            return max(1, sum(client.nthreads().values()))
+        except Exception:  # a client that cannot say: a modest guess
+            return 4
+    return 4
+
+
+def iter_samples(
+    plan: Plan | str | dict[str, Any],
+    seed: int = 0,
+    *,
+    start: int = 0,
+    stop: int | None = None,
+    executor: Executor | None = None,
+    options: Options | None = None,
+    ahead: int | None = None,
+) -> Iterator[tuple[int, Layout]]:
+    """Samples ``start, start + 1, ...`` of a run, judged, in index order.
+
+    Sample ``k`` is :func:`solve` of the plan with :func:`sample_seed(seed, k)
+    <sample_seed>`, so what this yields does not depend on the executor. On
+    an executor, up to ``ahead`` samples run at once and each is yielded as
+    soon as it and every sample before it are done; closing the iterator (or
+    leaving a ``for`` loop over it) cancels the samples not yet started.
+
+    Parameters
+    ----------
+    plan : Plan, path, JSON text, dict or bundled plan name
+    seed : int
+        Seed of the run.
+    start, stop : int
+        First sample index, and one past the last (``None``: no end).
+    executor : concurrent.futures.Executor, optional
+        Where samples run; in this process when omitted.
+    options : Options, optional
+    ahead : int, optional
+        Samples in flight on the executor (default: twice its workers, at least 2).
+
+    Yields
+    ------
+    (int, Layout)
+        The sample index and its layout; ``layout.report`` says whether it
+        passed and, if not, why.
+    """
+    opts = options or Options()
+    plan = load_plan(plan)
+    indices = itertools.count(start) if stop is None else iter(range(start, stop))
+    if executor is None:
+        for k in indices:
+            yield k, _sample(plan, sample_seed(seed, k), opts)
+        return
+    ahead = max(2, 2 * executor_workers(executor)) if ahead is None else max(1, int(ahead))
+    pending: collections.deque = collections.deque()
+    try:
+        for k in itertools.islice(indices, ahead):
+            pending.append((k, executor.submit(_sample, plan, sample_seed(seed, k), opts)))
+        while pending:
+            k, future = pending.popleft()
+            layout = future.result()
+            nxt = next(indices, None)
+            if nxt is not None:
+                pending.append((nxt, executor.submit(_sample, plan, sample_seed(seed, nxt),
+                                                     opts)))
+            yield k, layout
+    finally:
+        for _, future in pending:
+            future.cancel()
+
+
 def generate(
     plan: Plan | str | dict[str, Any],
     n: int,
@@ -392,33 +486,25 @@ def generate(
         from tqdm.auto import tqdm
 
         bar = tqdm(total=n, desc=f"{plan.name}", unit="layout")
-    next_index = 0
     seen = DistinctLayouts(distinct_tol)
-    workers = getattr(executor, "_max_workers", 1) or 1
+    samples = iter_samples(plan, seed, stop=budget if n > 0 else 0, executor=executor,
+                           options=opts)
     try:
-        while len(accepted) < n and next_index < budget:
-            need = n - len(accepted)
-            wave = need if executor is None else max(need, 2 * workers)
-            wave = min(budget - next_index, max(1, int(np.ceil(wave * 1.2)) if executor else 1))
-            seeds = [sample_seed(seed, next_index + k) for k in range(wave)]
-            next_index += wave
-            if executor is None:
-                results: Iterator[Layout] | list[Layout] = (
-                    _sample(plan, s, opts) for s in seeds)
+        for _, lay in samples:
+            reports.append(lay.report)
+            if not lay.report.valid:
+                continue
+            if seen.add_if_new(lay):
+                accepted.append(lay)
+                if bar is not None:
+                    bar.update(1)
+                if len(accepted) >= n:
+                    break
             else:
-                futures = [executor.submit(_sample, plan, s, opts) for s in seeds]
-                results = [f.result() for f in futures]
-            for lay in results:
-                reports.append(lay.report)
-                if lay.report.valid and len(accepted) < n:
-                    if seen.add_if_new(lay):
-                        accepted.append(lay)
-                        if bar is not None:
-                            bar.update(1)
-                    else:
-                        lay.report.failures.append("duplicate: within distinct_tol of an "
-                                                   "accepted layout")
+                lay.report.failures.append("duplicate: within distinct_tol of an "
+                                           "accepted layout")
     finally:
+        samples.close()  # samples still running are cancelled, not waited for
         if bar is not None:
             bar.close()
     result = Generation(plan, int(seed), accepted, reports, time.perf_counter() - t0,

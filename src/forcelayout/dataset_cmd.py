@@ -1,0 +1,148 @@
+"""``forcelayout dataset``: many layouts of many plans, resumable, on processes or a cluster.
+
+::
+
+    forcelayout dataset SOURCES... -n N --out DIR [--seed S]
+        [--workers W | --scheduler ADDRESS] [--pictures png|svg|none]
+        [--export glb,usd,mjcf,habitat] [--overwrite]
+
+SOURCES are plan files, folders of plan files, bundled plan names, or
+scene descriptions (with the ``llm`` extra; planned once, and reused when
+the run is resumed). See :mod:`forcelayout.dataset` for the folder it
+writes. Ctrl-C keeps every finished layout and says how to resume.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from concurrent.futures import Executor, ProcessPoolExecutor
+from contextlib import ExitStack
+from pathlib import Path
+from typing import Any
+
+from forcelayout import examples
+from forcelayout.dataset import MANIFEST, DatasetError, build_dataset
+from forcelayout.options import Options
+from forcelayout.plan import Plan
+
+__all__ = ["add_dataset_parser", "run_dataset"]
+
+
+def add_dataset_parser(sub: Any, count: Any) -> argparse.ArgumentParser:
+    """Add the ``dataset`` sub-command to ``sub`` (``count(k)`` parses a whole number >= k)."""
+    d = sub.add_parser("dataset", help="a resumable dataset: N layouts of each plan, written as "
+                       "they are accepted", description=__doc__.split("\n\n")[0])
+    d.add_argument("sources", nargs="+", metavar="SOURCE",
+                   help="plan JSON file, folder of plan files, bundled plan name, or (with "
+                        "forcelayout[llm]) a scene description in quotes")
+    d.add_argument("-n", type=count(0), required=True, help="layouts per plan")
+    d.add_argument("--out", type=Path, required=True, help="the dataset's folder")
+    d.add_argument("--seed", type=count(0), default=0, help="seed of the run (default 0)")
+    where = d.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=count(1), default=1,
+                       help="local processes (default 1)")
+    where.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                       help="a Dask scheduler, e.g. tcp://10.0.0.5:8786 (needs forcelayout[dask])")
+    d.add_argument("--pictures", choices=["png", "svg", "none"], default="png",
+                   help="a top-down picture per layout (default png)")
+    d.add_argument("--export", default="", metavar="FORMATS",
+                   help="comma-separated 3D formats per layout: glb,usd,mjcf,habitat "
+                        "(needs forcelayout[export])")
+    d.add_argument("--movable", default="", metavar="CATEGORIES",
+                   help="comma-separated categories exported as movable bodies")
+    d.add_argument("--max-attempts", type=count(0), default=None,
+                   help="sample budget per plan (default max(4 N, N + 20))")
+    d.add_argument("--overwrite", action="store_true",
+                   help="empty --out first if it holds another run's files")
+    d.add_argument("--quiet", action="store_true", help="no progress bar")
+    try:
+        from forcelayout.llm.cli import add_client_options
+    except ImportError:
+        pass
+    else:
+        add_client_options(d)
+    return d
+
+
+def _is_prompt(text: str) -> bool:
+    path = Path(text)
+    return (not path.exists() and text not in examples.list_plans()
+            and not text.lower().endswith(".json") and len(text.split()) > 1)
+
+
+def _plans(args: argparse.Namespace) -> tuple[list[Any], dict[str, str]]:
+    """Sources with scene descriptions replaced by plans (reused from the folder on resume)."""
+    sources: list[Any] = []
+    prompts: dict[str, str] = {}
+    known: dict[str, str] = {}
+    try:
+        old = json.loads((args.out / MANIFEST).read_text(encoding="utf-8"))
+        known = {e["prompt"]: e["name"] for e in old.get("plans", []) if "prompt" in e}
+    except (OSError, ValueError, AttributeError, TypeError, KeyError):
+        pass
+    for text in args.sources:
+        if not _is_prompt(text):
+            sources.append(text)
+            continue
+        if text in known and not args.overwrite and (args.out / known[text] / "plan.json").exists():
+            plan = Plan.load(args.out / known[text] / "plan.json")
+        else:
+            try:
+                from forcelayout.llm.cli import plan_for_generate
+            except ImportError:
+                raise DatasetError(
+                    f"{text!r} is neither a plan file, a folder nor a bundled plan "
+                    f"({', '.join(examples.list_plans())}); planning from a description needs "
+                    "pip install \"forcelayout[llm]\"") from None
+            plan = plan_for_generate(argparse.Namespace(**{**vars(args), "prompt": text}))
+        prompts[plan.name] = text
+        sources.append(plan)
+    return sources, prompts
+
+
+def _executor(args: argparse.Namespace, stack: ExitStack) -> Executor | None:
+    if args.scheduler:
+        from forcelayout._optional import import_optional
+
+        distributed = import_optional("distributed", "dask")
+        try:
+            client = stack.enter_context(distributed.Client(args.scheduler, timeout="20s"))
+        except OSError as e:
+            raise DatasetError(f"cannot reach the Dask scheduler at {args.scheduler}: {e}") \
+                from None
+        return client.get_executor()
+    if args.workers > 1:
+        return stack.enter_context(ProcessPoolExecutor(args.workers))
+    return None
+
+
+def run_dataset(args: argparse.Namespace) -> int:
+    """Run the ``dataset`` sub-command; returns the exit status."""
+    exports = [f.strip() for f in args.export.split(",") if f.strip()]
+    movable = [c.strip() for c in args.movable.split(",") if c.strip()]
+    sources, prompts = _plans(args)
+    with ExitStack() as stack:
+        executor = _executor(args, stack)
+        try:
+            result = build_dataset(sources, args.n, args.out, seed=args.seed, executor=executor,
+                                   pictures=args.pictures, exports=exports, movable=movable,
+                                   max_attempts=args.max_attempts, overwrite=args.overwrite,
+                                   options=Options(), prompts=prompts,
+                                   progress=not args.quiet)
+        except KeyboardInterrupt:
+            if executor is not None:
+                executor.shutdown(wait=False, cancel_futures=True)
+            print(f"interrupted: the finished layouts are in {args.out} (index.jsonl); run the "
+                  "same command again to resume", file=sys.stderr)
+            return 130
+    resumed = f", {result.resumed} of them from an earlier run" if result.resumed else ""
+    print(f"{result.accepted}/{result.wanted} layouts of {len(result.plans)} plan(s) in "
+          f"{args.out}{resumed} ({result.seconds:.1f} s)")
+    short = [p for p in result.plans if p.accepted < p.wanted]
+    for p in short:
+        print(f"hint: only {p.accepted} of {p.wanted} layouts of plan {p.name!r} from "
+              f"{p.attempted} samples: {p.why}; loosen the plan or raise --max-attempts",
+              file=sys.stderr)
+    return 1 if short else 0

@@ -1,0 +1,187 @@
+"""Datasets: written as accepted, resumable to the same bytes, the same on any executor."""
+
+import hashlib
+import json
+import subprocess
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import pytest
+
+import forcelayout as fl
+from forcelayout.cli import main
+from forcelayout.dataset import DatasetError, build_dataset, layout_stem, plan_sources
+
+
+def digest(folder: Path) -> dict[str, str]:
+    return {str(p.relative_to(folder)): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(folder.rglob("*")) if p.is_file() and p.name != "run.log"}
+
+
+@pytest.fixture(scope="module")
+def whole(tmp_path_factory) -> Path:
+    """An uninterrupted run: two plans, three layouts each, pictures."""
+    out = tmp_path_factory.mktemp("whole")
+    result = build_dataset(["bedroom", "home_office"], 3, out, seed=5, pictures="svg")
+    assert result.complete and result.accepted == 6
+    return out
+
+
+def test_the_folder_holds_layouts_index_and_summaries(whole):
+    index = [json.loads(line) for line in (whole / "index.jsonl").read_text().splitlines()]
+    assert [(e["plan"], e["layout"]) for e in index] == [
+        ("bedroom", 0), ("bedroom", 1), ("bedroom", 2),
+        ("home_office", 0), ("home_office", 1), ("home_office", 2)]
+    plan = fl.load_plan("bedroom")
+    for e in index:
+        assert e["files"][0] == f"{e['plan']}_{e['layout']:03d}.json"
+        assert e["checks"]["passed"] and e["rule_satisfaction"] >= 0.95
+        assert e["seed"] == fl.sampling.sample_seed(5, e["sample"])
+        for name in e["files"]:
+            assert (whole / e["plan"] / name).is_file()
+    lay = fl.Layout.load(whole / "bedroom" / "bedroom_000.json", plan)
+    assert lay.check().ok
+    # the same layouts generate() accepts, in the same order
+    gen = fl.generate(plan, 3, seed=5)
+    assert [g.to_json() for g in gen] == [
+        (whole / "bedroom" / f"bedroom_{k:03d}.json").read_text() for k in range(3)]
+    summary = json.loads((whole / "bedroom" / "summary.json").read_text())
+    assert summary["accepted"] == 3 and summary["attempted"] == gen.attempted
+    assert not list(whole.rglob(".*tmp*"))
+    assert "elapsed_s" in (whole / "run.log").read_text()
+
+
+def test_a_process_pool_writes_the_same_bytes(whole, tmp_path):
+    with ProcessPoolExecutor(2) as pool:
+        build_dataset(["bedroom", "home_office"], 3, tmp_path, seed=5, pictures="svg",
+                      executor=pool)
+    assert digest(tmp_path) == digest(whole)
+
+
+class Stop(Exception):
+    pass
+
+
+@pytest.mark.parametrize("after, unfinished", [(1, "bedroom/bedroom_001"),
+                                               (4, "home_office/home_office_001")])
+def test_an_interrupted_run_resumes_to_the_same_bytes(whole, tmp_path, after, unfinished):
+    def stop(done, total):
+        if done == after:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        build_dataset(["bedroom", "home_office"], 3, tmp_path, seed=5, pictures="svg",
+                      progress=stop)
+    lines = (tmp_path / "index.jsonl").read_text().splitlines()
+    assert len(lines) == after
+    # a kill can also leave a torn index line, a stray half-written file, a file not yet indexed
+    with (tmp_path / "index.jsonl").open("a") as f:
+        f.write('{"plan": "bedr')
+    folder, stem = unfinished.split("/")
+    (tmp_path / folder).mkdir(exist_ok=True)
+    (tmp_path / folder / f".{stem}.999.tmp.svg").write_text("<svg")
+    (tmp_path / folder / f"{stem}.json").write_text("{}")
+    seen = []
+    result = build_dataset(["bedroom", "home_office"], 3, tmp_path, seed=5, pictures="svg",
+                           progress=lambda done, total: seen.append(done))
+    assert result.resumed == after and result.complete
+    assert seen[0] == after + 1 and seen[-1] == 6
+    assert digest(tmp_path) == digest(whole)
+
+
+def test_a_finished_dataset_is_left_as_is(whole, tmp_path):
+    before = digest(whole)
+    result = build_dataset(["bedroom", "home_office"], 3, whole, seed=5, pictures="svg")
+    assert result.resumed == 6 and result.complete and digest(whole) == before
+
+
+def test_a_folder_of_another_run_is_refused_unless_overwrite(whole, tmp_path):
+    with pytest.raises(DatasetError, match=r"another dataset .*n \(3 there, 4 now\).*--overwrite"):
+        build_dataset(["bedroom", "home_office"], 4, whole, seed=5, pictures="svg")
+    other = tmp_path / "other"
+    other.mkdir()
+    (other / "plan.json").write_text("{}")
+    with pytest.raises(DatasetError, match="not a forcelayout dataset"):
+        build_dataset("bedroom", 1, other, pictures="none")
+    result = build_dataset("bedroom", 1, other, pictures="none", overwrite=True)
+    assert result.complete and not (other / "plan.json").exists()
+    assert sorted(p.name for p in (other / "bedroom").iterdir()) == [
+        "bedroom_000.json", "plan.json", "summary.json"]
+
+
+def test_names_are_padded_to_the_width_of_the_run(tmp_path):
+    assert layout_stem("bedroom", 7, 10) == "bedroom_007"
+    assert layout_stem("bedroom", 999, 1000) == "bedroom_999"
+    assert layout_stem("bedroom", 7, 1001) == "bedroom_0007"
+    assert layout_stem("bedroom", 12345, 100_000) == "bedroom_12345"
+    names = [layout_stem("x", k, 20_000) for k in (9, 10, 100, 19_999)]
+    assert names == sorted(names)
+
+
+def test_a_short_plan_says_why(tmp_path):
+    plan = fl.load_plan("bedroom").model_dump(mode="json")
+    plan["room"]["polygon"] = [[0, 0], [4.2, 0], [4.2, 2.3], [0, 2.3]]
+    plan["name"] = "tight"
+    result = build_dataset([plan], 3, tmp_path, pictures="none", max_attempts=2)
+    (outcome,) = result.plans
+    assert outcome.accepted < 3 and outcome.attempted == 2 and outcome.why
+    summary = json.loads((tmp_path / "tight" / "summary.json").read_text())
+    assert summary["why"] == outcome.why and not result.complete
+    assert sum(summary["failure_reasons"].values()) == 2 - outcome.accepted
+
+
+def test_sources_take_folders_and_refuse_clashing_names(tmp_path):
+    for name in ("a", "b"):
+        plan = fl.load_plan("bedroom").model_dump(mode="json")
+        plan["name"] = f"room_{name}"
+        (tmp_path / f"{name}.json").write_text(json.dumps(plan))
+    assert [p.name for p in plan_sources([tmp_path, "bedroom"])] == ["room_a", "room_b",
+                                                                      "bedroom"]
+    with pytest.raises(DatasetError, match="two plans are named 'room_a'"):
+        plan_sources([tmp_path, tmp_path / "a.json"])
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(DatasetError, match="holds no plan file"):
+        plan_sources([tmp_path / "empty"])
+
+
+def test_the_command_line_writes_a_dataset_and_resumes(whole, tmp_path, capsys):
+    args = ["dataset", "bedroom", "home_office", "-n", "3", "--out", str(tmp_path),
+            "--seed", "5", "--pictures", "svg", "--quiet"]
+    assert main(args) == 0
+    assert "6/6 layouts of 2 plan(s)" in capsys.readouterr().out
+    assert digest(tmp_path) == digest(whole)
+    assert main(args) == 0
+    assert "6 of them from an earlier run" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("args, reason", [
+    (["bedroom", "-n", "-1"], "-1 is less than 0"),
+    (["bedroom", "-n", "2", "--workers", "0"], "0 is less than 1"),
+    (["bedroom", "-n", "2", "--workers", "2", "--scheduler", "tcp://x:1"], "not allowed with"),
+    (["no_such_plan.json", "-n", "2"], "no plan file 'no_such_plan.json'"),
+    (["bedroom", "-n", "2", "--pictures", "gif"], "invalid choice: 'gif'"),
+])
+def test_the_command_line_refuses_bad_input_in_one_line(args, reason, tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "forcelayout.cli", "dataset", *args,
+                           "--out", str(tmp_path / "o")], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 2
+    assert reason in proc.stderr and "Traceback" not in proc.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_refused_folder_is_one_line(whole, capsys):
+    assert main(["dataset", "bedroom", "-n", "9", "--out", str(whole), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--overwrite" in err
+
+
+def test_a_dask_cluster_writes_the_same_bytes(whole, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        build_dataset(["bedroom", "home_office"], 3, tmp_path, seed=5, pictures="svg",
+                      executor=client.get_executor())
+    assert digest(tmp_path) == digest(whole)

@@ -111,3 +111,15 @@ def test_distinct_agrees_with_all_pairs() -> None:
     data, _ = run("distinct.py", "--n", "20", "60")
     assert [r["n"] for r in data["results"]] == [20, 60]
     assert all(r["agree"] for r in data["results"])
+
+
+def test_dataset_throughput_quick() -> None:
+    data, _ = run("dataset_throughput.py", "--plans", "bedroom", "-n", "2", "--no-dask")
+    assert {r["executor"] for r in data["runs"]} == {"1 process", "2 processes"}
+    assert all(r["layouts"] == 2 for r in data["runs"]) and data["baseline"]["seconds"] > 0
+
+
+def test_dataset_resume_quick() -> None:
+    data, _ = run("dataset_resume.py", "--plans", "bedroom", "-n", "3", "--workers", "1",
+                  "--pictures", "none", "--kills", "1")
+    assert data["identical"] and data["runs"] >= 1

@@ -63,6 +63,7 @@ PUBLIC_MODULES = (
     "forcelayout.clearance",
     "forcelayout.repair",
     "forcelayout.baselines",
+    "forcelayout.dataset",
 )
 #: Optional subpackages: checked only when their extra is installed.
 OPTIONAL_MODULES = (("forcelayout.export", "trimesh"), ("forcelayout.llm", "openai"))

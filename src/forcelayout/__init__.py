@@ -13,6 +13,7 @@ Examples
 """
 
 from forcelayout import examples, rules
+from forcelayout.dataset import build_dataset
 from forcelayout.errors import MissingExtraError, PlanError, Problem, UnknownRuleError
 from forcelayout.layout import Layout, Pose, RuleResult, SampleReport
 from forcelayout.options import Options, SolverConfig
@@ -36,6 +37,7 @@ __all__ = [
     "generate",
     "solve",
     "Generation",
+    "build_dataset",
     "Options",
     "SolverConfig",
     "rules",

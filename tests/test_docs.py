@@ -47,6 +47,7 @@ PUBLIC_MODULES = (
     "forcelayout.validate",
     "forcelayout.diagnose",
     "forcelayout.render",
+    "forcelayout.views",
     "forcelayout.metrics",
     "forcelayout.baselines",
     "forcelayout.testing",

@@ -1,5 +1,6 @@
 """One plan -> many layouts: generate(), executors, reports, property tests."""
 
+import json
 import re
 import warnings
 from concurrent.futures import ThreadPoolExecutor
@@ -18,6 +19,7 @@ from forcelayout.diagnose import (
 )
 from forcelayout.testing import plans
 from forcelayout.validate import check_layout
+from forcelayout.views import Summary
 from sample_plans import SHELVES
 
 SMALL = {
@@ -77,6 +79,8 @@ def test_summary_counts(small_run):
     assert s["accepted"] == 4 and s["attempted"] >= 4
     assert 0 <= s["valid_fraction"] <= 1
     assert s["layouts_per_second"] > 0
+    assert isinstance(s, Summary) and str(s).splitlines()[0].split() == ["plan", "small"]
+    assert json.loads(json.dumps(s)) == s
 
 
 def test_a_feasible_run_keeps_its_verdict_and_has_no_why(small_run):

@@ -48,6 +48,7 @@ from forcelayout.geometry import RoomGeometry
 from forcelayout.layout import Layout, Pose, SampleReport
 from forcelayout.plan import Plan
 from forcelayout.rules.base import StartHint
+from forcelayout.views import Summary
 
 if TYPE_CHECKING:
     from forcelayout.rules.base import Rule
@@ -612,13 +613,16 @@ class RejectionResult:
         """Accepted layouts per second of wall time (NaN for an instant run)."""
         return self.accepted / self.seconds if self.seconds > 0 else float("nan")
 
-    def summary(self) -> dict[str, Any]:
-        """Counts, rates, timing and failure counts as plain data."""
-        return {"plan": self.plan.name, "seed": self.seed, "n": self.n,
+    def summary(self) -> Summary:
+        """Counts, rates, timing and failure counts as plain data.
+
+        A :class:`~forcelayout.views.Summary`: a ``dict`` that prints as a table.
+        """
+        return Summary({"plan": self.plan.name, "seed": self.seed, "n": self.n,
                 "accepted": self.accepted, "tries": self.tries, "max_tries": self.max_tries,
                 "yield_per_try": self.yield_per_try, "seconds": self.seconds,
                 "layouts_per_second": self.layouts_per_second,
-                "failures": dict(sorted(self.failures.items(), key=lambda kv: -kv[1]))}
+                "failures": dict(sorted(self.failures.items(), key=lambda kv: -kv[1]))})
 
 
 def rejection_sample(

@@ -358,3 +358,30 @@ def draw_many(
     if path is not None:
         save_figure(fig, path)
     return fig
+
+
+def _thumbnail_png(layout: Layout, *, size: float = 1.6, dpi: int = 192) -> bytes:
+    """A small top-down PNG of a layout: room and footprints, no text, legend or axes.
+
+    Draws what :func:`draw_layout` draws with ``labels=False, check=False``
+    (nothing is checked again), on a figure whose longer side is ``size``
+    inches; ``dpi`` 192 gives sharp pictures on high-density screens when
+    shown at 96 pixels per inch.
+    """
+    xmin, ymin, xmax, ymax = (float(v) for v in layout.room.bounds)
+    pad = 0.25  # as draw_layout's limits
+    w, h = xmax - xmin + 2 * pad, ymax - ymin + 2 * pad
+    span = max(w, h)
+    fig = Figure(figsize=(size * w / span, size * h / span))
+    FigureCanvasAgg(fig)
+    ax = fig.add_axes((0.0, 0.0, 1.0, 1.0))
+    draw_layout(layout, ax=ax, labels=False, check=False, title="")
+    legend = ax.get_legend()
+    if legend is not None:
+        legend.remove()
+    for text in list(ax.texts):  # door names are unreadable at this size
+        text.remove()
+    ax.set_axis_off()
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None})
+    return buf.getvalue()

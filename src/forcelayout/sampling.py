@@ -36,6 +36,7 @@ from forcelayout.layout import Layout, SampleReport
 from forcelayout.options import Options
 from forcelayout.plan import Plan
 from forcelayout.sources import load_plan
+from forcelayout.views import Summary
 
 __all__ = [
     "Options",
@@ -248,8 +249,15 @@ class Generation:
         accepted = {lay.report.seed for lay in self.layouts}
         return [r for r in self.reports if r.seed not in accepted]
 
-    def summary(self) -> dict[str, Any]:
-        """Counts, rates, timing and the most common failure reasons."""
+    def summary(self) -> Summary:
+        """Counts, rates, timing and the most common failure reasons.
+
+        Returns
+        -------
+        Summary
+            A ``dict`` (JSON-ready, as before) whose ``str()`` is an aligned
+            table and which Jupyter shows as an HTML table.
+        """
         reasons: dict[str, int] = {}
         for r in self.rejected:
             # a valid sample beyond the n wanted (drawn in the same wave) failed nothing
@@ -257,7 +265,7 @@ class Generation:
                 key = f.split(":")[0]
                 reasons[key] = reasons.get(key, 0) + 1
         valid = sum(r.valid for r in self.reports)
-        return {
+        return Summary({
             "plan": self.plan.name,
             "seed": self.seed,
             "wanted": self.wanted,
@@ -275,7 +283,18 @@ class Generation:
             "median_steps": float(np.median([r.steps for r in self.reports])) if self.reports
             else 0.0,
             "failure_reasons": dict(sorted(reasons.items(), key=lambda kv: -kv[1])),
-        }
+        })
+
+    def _repr_html_(self) -> str:
+        """Jupyter's view: thumbnails of the first layouts and the summary table."""
+        from forcelayout.views import generation_html
+
+        return generation_html(self)
+
+    def __repr__(self) -> str:
+        of = f"/{self.wanted}" if self.wanted is not None else ""
+        return (f"<Generation plan={self.plan.name!r} seed={self.seed} layouts={len(self)}{of} "
+                f"attempted={self.attempted} seconds={self.seconds:.2f}>")
 
 
 class DistinctLayouts:

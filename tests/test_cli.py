@@ -156,3 +156,38 @@ def test_a_short_generate_run_hints_at_max_attempts(tmp_path, capsys):
     assert len(hints) == 1 and len(err.splitlines()) == 1 and "Traceback" not in err
     assert re.search(r"^hint: only \d of 3 layouts of plan 'bedroom' from 2 samples: .+; "
                      r".*--max-attempts \d+", hints[0])
+
+
+def test_generate_replaces_an_earlier_run_and_keeps_other_files(tmp_path):
+    out = tmp_path / "out"
+    assert main(["generate", "home_office", "-n", "2", "--out", str(out), "--quiet",
+                 "--format", "none"]) == 0
+    (out / "notes.txt").write_text("mine")
+    assert main(["generate", "bedroom", "-n", "1", "--out", str(out), "--quiet",
+                 "--format", "none"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == [
+        "bedroom_000.json", "notes.txt", "plan.json", "summary.json"]
+    assert json.loads((out / "plan.json").read_text())["name"] == "bedroom"
+
+
+def test_generate_writes_each_layout_as_it_is_accepted(tmp_path, monkeypatch, capsys):
+    import forcelayout.generate_cmd as cmd
+
+    def interrupt_after_two(plan, n, *, on_layout, **kw):
+        from forcelayout.sampling import generate
+        count = []
+
+        def write(lay):
+            on_layout(lay)
+            count.append(lay)
+            if len(count) == 2:
+                raise KeyboardInterrupt
+
+        return generate(plan, n, on_layout=write, **kw)
+
+    monkeypatch.setattr(cmd, "generate", interrupt_after_two)
+    out = tmp_path / "out"
+    assert main(["generate", "bedroom", "-n", "5", "--out", str(out), "--quiet"]) == 130
+    assert "interrupted: 2 layouts written" in capsys.readouterr().err
+    assert sorted(p.name for p in out.glob("bedroom_*")) == [
+        "bedroom_000.json", "bedroom_000.png", "bedroom_001.json", "bedroom_001.png"]

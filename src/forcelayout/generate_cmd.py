@@ -1,8 +1,12 @@
 """``forcelayout generate``: many layouts of one plan written to a folder.
 
-Writes, per accepted layout, ``<plan>_<k>.json`` (poses, report, rule
-results) and a top-down picture, plus ``summary.json`` with counts, rates,
-timing and the reasons rejected samples failed.
+Writes, per accepted layout and as soon as it is accepted,
+``<plan>_<k>.json`` (poses, report, rule results; ``k`` zero-padded to the
+width of ``n - 1``) and a top-down picture, plus ``plan.json`` first and
+``summary.json`` at the end with counts, rates, timing and the reasons
+rejected samples failed. The files of an earlier ``generate`` run in the same
+folder are removed first. Ctrl-C keeps the layouts written so far. For large
+runs that must survive interruptions, ``forcelayout dataset`` resumes.
 
 A plan that looks infeasible before sampling gets one ``warning:`` line on
 stderr before the samples run; a run with fewer layouts than asked for ends
@@ -13,13 +17,16 @@ exit status 1.
 from __future__ import annotations
 
 import argparse
+import glob
 import json
 import sys
 import warnings
 from concurrent.futures import Executor, ProcessPoolExecutor
 from pathlib import Path
 
+from forcelayout.dataset import layout_stem
 from forcelayout.diagnose import FeasibilityWarning, FewLayoutsWarning
+from forcelayout.layout import Layout
 from forcelayout.plan import Plan
 from forcelayout.sampling import Options, generate
 from forcelayout.sources import load_plan
@@ -38,11 +45,36 @@ def _plan_from_args(args: argparse.Namespace) -> Plan:
     return load_plan(args.plan)
 
 
+def _remove_earlier_run(out: Path) -> None:
+    """Remove the files an earlier ``generate`` run wrote to ``out`` (nothing else)."""
+    try:
+        old = json.loads((out / "plan.json").read_text(encoding="utf-8"))["name"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return
+    for path in out.glob(f"{glob.escape(old)}_*"):
+        stem = path.stem[len(old) + 1:]
+        if stem.isdigit() and path.suffix in (".json", ".png", ".svg"):
+            path.unlink()
+    for name in ("plan.json", "summary.json"):
+        (out / name).unlink(missing_ok=True)
+
+
 def run_generate(args: argparse.Namespace) -> int:
     """Run the ``generate`` sub-command; returns the exit status."""
     plan = _plan_from_args(args)
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
+    _remove_earlier_run(out)
+    (out / "plan.json").write_text(plan.to_json(), encoding="utf-8")
+    written: list[Path] = []
+
+    def write(lay: Layout) -> None:
+        stem = out / layout_stem(plan.name, len(written), args.n)
+        lay.save(stem.with_suffix(".json"))
+        if args.format != "none":
+            lay.picture(stem.with_suffix(f".{args.format}"))
+        written.append(stem)
+
     opts = Options(relations=not args.no_relations, decor=not args.no_decor)
     executor: Executor | None = ProcessPoolExecutor(args.workers) if args.workers > 1 else None
     try:
@@ -60,16 +92,13 @@ def run_generate(args: argparse.Namespace) -> int:
             warnings.showwarning = say
             result = generate(plan, args.n, seed=args.seed, executor=executor,
                               max_attempts=args.max_attempts, progress=not args.quiet,
-                              options=opts)
+                              on_layout=write, options=opts)
+    except KeyboardInterrupt:
+        print(f"interrupted: {len(written)} layouts written to {out}", file=sys.stderr)
+        return 130
     finally:
         if executor is not None:
-            executor.shutdown()
-    (out / "plan.json").write_text(plan.to_json(), encoding="utf-8")
-    for k, lay in enumerate(result):
-        stem = out / f"{plan.name}_{k:03d}"
-        lay.save(stem.with_suffix(".json"))
-        if args.format != "none":
-            lay.picture(stem.with_suffix(f".{args.format}"))
+            executor.shutdown(cancel_futures=True)
     summary = result.summary()
     summary["rejected"] = [{"seed": r.seed, "failures": r.failures} for r in result.rejected]
     (out / "summary.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")

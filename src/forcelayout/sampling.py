@@ -16,7 +16,7 @@ import itertools
 import math
 import time
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from concurrent.futures import Executor
 from dataclasses import dataclass, replace
 from typing import Any
@@ -437,6 +437,7 @@ def generate(
     max_attempts: int | None = None,
     distinct_tol: float = 0.05,
     progress: bool = False,
+    on_layout: Callable[[Layout], Any] | None = None,
     options: Options | None = None,
     **kwargs: Any,
 ) -> Generation:
@@ -460,6 +461,9 @@ def generate(
         accepted layout's is a duplicate and is not accepted.
     progress : bool
         Show a progress bar (tqdm).
+    on_layout : callable, optional
+        Called with each accepted layout as soon as it is accepted (in
+        order), e.g. to write it to disk while the run goes on.
     options : Options, optional
         Or its fields as keyword arguments (``relations=False``, ...).
 
@@ -515,6 +519,8 @@ def generate(
                 continue
             if seen.add_if_new(lay):
                 accepted.append(lay)
+                if on_layout is not None:
+                    on_layout(lay)
                 if bar is not None:
                     bar.update(1)
                 if len(accepted) >= n:

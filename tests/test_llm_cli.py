@@ -192,3 +192,17 @@ def test_client_options_parse_into_what_plan_for_generate_reads(tmp_path):
         "model": "m", "timeout": 7.0, "temperature": 0.5, "seed": 3}
     args = parser.parse_args(["--prompt", "a bedroom", "--replay", str(RECORDING)])
     assert plan_for_generate(args).name == "student_bedroom"
+
+
+def test_dataset_plans_a_description_once_and_reuses_it_on_resume(tmp_path, capsys):
+    out = tmp_path / "data"
+    args = ["dataset", "a student's bedroom", "bedroom", "-n", "1", "--out", str(out),
+            "--pictures", "none", "--quiet", "--replay", str(RECORDING)]
+    assert main(args) == 0
+    manifest = json.loads((out / "dataset.json").read_text())
+    assert {"name": "student_bedroom", "prompt": "a student's bedroom"}.items() \
+        <= manifest["plans"][0].items()
+    assert (out / "student_bedroom" / "student_bedroom_000.json").exists()
+    # resumed without the model: the plan comes from the folder
+    assert main(args[:-2]) == 0
+    assert "2 of them from an earlier run" in capsys.readouterr().out

@@ -11,6 +11,7 @@ local +x points along ``(cos yaw, sin yaw)``, local +y along
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -19,7 +20,12 @@ import shapely
 from forcelayout.layout import Layout
 from forcelayout.plan import Room
 
-__all__ = ["Box", "room_boxes", "object_boxes", "floor_mesh", "box_mesh", "wall_convexity"]
+__all__ = ["Box", "room_boxes", "object_boxes", "floor_mesh", "box_mesh", "wall_convexity",
+           "movable_names", "is_movable", "DEFAULT_DENSITY"]
+
+#: Kilograms per cubic metre of an object's box when it is exported as a movable body
+#: (a box full of wood would be ~600; furniture is mostly air).
+DEFAULT_DENSITY = 100.0
 
 #: Cap on the pieces one wall is cut into (openings are few; this only bounds the loop).
 _MAX_PIECES = 10_000
@@ -259,3 +265,29 @@ def floor_mesh(polygon: np.ndarray, *, thickness: float = 0.05) -> tuple[np.ndar
     vertices = np.concatenate([np.column_stack([p, np.zeros(n)]),
                                np.column_stack([p, np.full(n, -float(thickness))])])
     return vertices, np.concatenate([top_f, bottom_f, sides])
+
+
+def movable_names(movable: str | Iterable[str] | None) -> frozenset[str]:
+    """The categories (or object ids) given as ``movable``, as a set.
+
+    A string is read as a comma-separated list (``"chair,lamp"``); blanks are
+    dropped.
+    """
+    if movable is None:
+        return frozenset()
+    items = movable.split(",") if isinstance(movable, str) else list(movable)
+    out = set()
+    for item in items:
+        if not isinstance(item, str):
+            raise TypeError(f"movable: expected category names (str), got {item!r}")
+        if item.strip():
+            out.add(item.strip())
+    return frozenset(out)
+
+
+def is_movable(box: Box, movable: frozenset[str]) -> bool:
+    """Whether an object's box is exported as a movable body: its category or its id is listed.
+
+    Names that no object of the layout has are ignored (one list serves many plans).
+    """
+    return box.kind == "object" and (box.category in movable or box.name in movable)

@@ -599,6 +599,37 @@ def test_mjcf_l_shaped_room_with_an_asset_mesh(tmp_path, mujoco):
         export.export_mjcf(lay, tmp_path / "m.xml", assets={"sofa": sphere})
 
 
+def test_rugs_do_not_collide_and_hanging_objects_stay_static(tmp_path, pxr, mujoco):
+    from pxr import Usd, UsdPhysics
+
+    objects = [*OBJECTS, {"id": "rug", "category": "rug", "size": [2.0, 1.4, 0.01]}]
+    plan = make_plan(RECT, objects=objects)
+    lay = Layout(plan, {"desk": Pose(2.0, 1.5, 0.0), "rug": Pose(2.0, 1.5, 0.0),
+                        "poster-1.a": Pose(3.97, 2.8, math.pi / 2, 1.2, "wall:1")})
+    movable = ["desk", "rug", "poster"]
+    stage = Usd.Stage.Open(str(export.export_usd(lay, tmp_path / "r.usda", movable=movable)))
+    objs = _usd_objects(stage)
+    assert not objs["rug"].GetChild("box").HasAPI(UsdPhysics.CollisionAPI)
+    assert objs["desk"].GetChild("box").HasAPI(UsdPhysics.CollisionAPI)
+    assert [o for o, p in objs.items() if p.HasAPI(UsdPhysics.RigidBodyAPI)] == ["desk"]
+
+    model = mujoco.MjModel.from_xml_string(export.mjcf_text(lay, movable=movable))
+    rug = _geom(mujoco, model, "rug")
+    assert model.geom_contype[rug] == 0 and model.geom_conaffinity[rug] == 0
+    assert [model.joint(i).name for i in range(model.njnt)] == ["desk"]
+    data = mujoco.MjData(model)
+    for _ in range(200):  # the desk stands on the floor through the rug, not pushed up
+        mujoco.mj_step(model, data)
+    assert data.geom_xpos[_geom(mujoco, model, "desk")][2] == pytest.approx(0.375, abs=2e-3)
+
+    out = export.export_habitat(lay, tmp_path / "hab", movable=movable)
+    motion = {r["user_defined"]["id"]: r["motion_type"]
+              for r in json.loads(out.read_text())["object_instances"]}
+    assert motion == {"desk": "DYNAMIC", "rug": "STATIC", "poster-1.a": "STATIC"}
+    rug_cfg = tmp_path / "hab" / "objects" / "test_room_rug.object_config.json"
+    assert json.loads(rug_cfg.read_text())["is_collidable"] is False
+
+
 # -- write_exports ---------------------------------------------------------------
 
 

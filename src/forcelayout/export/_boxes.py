@@ -21,7 +21,7 @@ from forcelayout.layout import Layout
 from forcelayout.plan import Room
 
 __all__ = ["Box", "room_boxes", "object_boxes", "floor_mesh", "box_mesh", "wall_convexity",
-           "movable_names", "is_movable", "DEFAULT_DENSITY"]
+           "movable_names", "is_movable", "collides", "DEFAULT_DENSITY"]
 
 #: Kilograms per cubic metre of an object's box when it is exported as a movable body
 #: (a box full of wood would be ~600; furniture is mostly air).
@@ -52,7 +52,9 @@ class Box:
         The object's category, or ``"wall"``.
     meta : dict
         Extra facts: a wall piece's ``wall`` index and ``inward`` unit normal
-        (x, y) pointing into the room; an object's ``surface``.
+        (x, y) pointing into the room; an object's ``surface`` and whether
+        it is ``walkable`` (a floor cover such as a rug, see
+        :attr:`forcelayout.plan.SceneObject.is_walkable`).
     """
 
     name: str
@@ -221,7 +223,7 @@ def object_boxes(layout: Layout) -> list[Box]:
             centre=np.array([p.x, p.y, p.z + h / 2]),
             extents=np.array([w, d, h]),
             yaw=float(p.yaw), kind="object", category=obj.category,
-            meta={"surface": p.surface},
+            meta={"surface": p.surface, "walkable": obj.is_walkable},
         ))
     return out
 
@@ -288,6 +290,21 @@ def movable_names(movable: str | Iterable[str] | None) -> frozenset[str]:
 def is_movable(box: Box, movable: frozenset[str]) -> bool:
     """Whether an object's box is exported as a movable body: its category or its id is listed.
 
-    Names that no object of the layout has are ignored (one list serves many plans).
+    Names that no object of the layout has are ignored (one list serves many
+    plans). Objects on a wall or the ceiling hang there and stay static, and
+    so do walkable floor covers (they do not collide, see :func:`collides`).
     """
-    return box.kind == "object" and (box.category in movable or box.name in movable)
+    surface = str(box.meta.get("surface", "floor"))
+    hanging = surface == "ceiling" or surface.startswith("wall:")
+    return (box.kind == "object" and not hanging and collides(box)
+            and (box.category in movable or box.name in movable))
+
+
+def collides(box: Box) -> bool:
+    """Whether a box gets a collision shape: walkable floor covers (rugs, mats) do not.
+
+    The library treats them as no obstacle (furniture stands on them, people
+    walk over them), and their box overlaps the feet of what stands on them,
+    which a physics engine would push apart.
+    """
+    return not box.meta.get("walkable", False)

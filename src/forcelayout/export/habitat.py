@@ -34,7 +34,13 @@ from typing import Any
 import numpy as np
 
 from forcelayout.export._atomic import write_bytes, write_text
-from forcelayout.export._boxes import DEFAULT_DENSITY, is_movable, movable_names, object_boxes
+from forcelayout.export._boxes import (
+    DEFAULT_DENSITY,
+    collides,
+    is_movable,
+    movable_names,
+    object_boxes,
+)
 from forcelayout.export.scene import (
     Z_UP_TO_Y_UP,
     AssetLike,
@@ -149,6 +155,7 @@ def export_habitat(
             "front": [0.0, 0.0, -1.0],
             "mass": round(float(density * np.prod(b.extents)), 9),
             "use_bounding_box_for_collision": asset is None,  # the mesh is its box
+            "is_collidable": collides(b),  # rugs and mats are walked over
             "user_defined": {"id": b.name, "category": b.category, "plan": plan,
                              "size": [float(v) for v in b.extents]},
         })

@@ -21,9 +21,11 @@ Walls are boxes standing outside the floor polygon with doors and windows
 left out as gaps (the same pieces as every other exporter). Objects are
 static (bodies without joints are welded to the world) unless their category
 or id is in ``movable``: those get a free joint and the mass ``density`` ×
-their box's volume. With ``assets``, an object's geom is the fitted asset
-mesh (written as STL beside the XML, in ``<stem>_meshes/``) instead of a
-box; MuJoCo collides meshes by their convex hull.
+their box's volume (objects on a wall or the ceiling stay static). Walkable
+floor covers (rugs, mats) do not collide (``contype="0" conaffinity="0"``).
+With ``assets``, an object's geom is the fitted asset mesh (written as STL
+beside the XML, in ``<stem>_meshes/``) instead of a box; MuJoCo collides
+meshes by their convex hull.
 
 MuJoCo also takes the floor slab's convex hull for collisions: in an
 L-shaped room that hull covers the notch outside the walls too, which no
@@ -43,6 +45,7 @@ import numpy as np
 from forcelayout.export._atomic import atomic_path, write_bytes
 from forcelayout.export._boxes import (
     DEFAULT_DENSITY,
+    collides,
     floor_mesh,
     is_movable,
     movable_names,
@@ -123,6 +126,8 @@ def _build(layout: Layout, *, movable: str | Iterable[str], density: float,
                              pos=_vec((b.centre[0], b.centre[1], b.bottom)),
                              quat=_yaw_quat(b.yaw))
         geom: dict[str, str] = {"name": b.name, "rgba": _colour(b.category)}
+        if not collides(b):  # a rug: seen, not collided with
+            geom.update(contype="0", conaffinity="0")
         if is_movable(b, moving):
             ET.SubElement(body, "freejoint", name=b.name)
             geom["mass"] = _num(density * float(np.prod(b.extents)))

@@ -15,9 +15,11 @@ metres (``upAxis = "Z"``, ``metersPerUnit = 1``, ``kilogramsPerUnit = 1``),
     /physicsScene                UsdPhysics.Scene
 
 Every geometry prim has ``UsdPhysics.CollisionAPI`` and is a static collider
-(no rigid body). Objects whose category (or id) is listed in ``movable`` get
+(no rigid body), except walkable floor covers (rugs, mats), which have no
+collider. Objects whose category (or id) is listed in ``movable`` get
 ``UsdPhysics.RigidBodyAPI`` and ``UsdPhysics.MassAPI`` (mass = ``density`` ×
-the box's volume) on their Xform, so the simulator moves them as one body.
+the box's volume) on their Xform, so the simulator moves them as one body;
+objects on a wall or the ceiling stay static.
 
 The physics scene sits beside ``/World``, not under it: a stage opened on its
 own simulates, and a stage referenced into another (its default prim
@@ -46,6 +48,7 @@ from forcelayout._optional import import_optional
 from forcelayout.export._atomic import atomic_path
 from forcelayout.export._boxes import (
     DEFAULT_DENSITY,
+    collides,
     floor_mesh,
     is_movable,
     movable_names,
@@ -109,12 +112,14 @@ def _place(pxr: Any, prim: Any, translate: Iterable[float], yaw: float | None = 
         xf.AddScaleOp(double).Set(pxr.Gf.Vec3d(*(float(v) for v in scale)))
 
 
-def _unit_cube(pxr: Any, stage: Any, path: str, rgb: tuple[float, float, float]) -> Any:
+def _unit_cube(pxr: Any, stage: Any, path: str, rgb: tuple[float, float, float],
+               collision: bool = True) -> Any:
     cube = pxr.UsdGeom.Cube.Define(stage, path)
     cube.CreateSizeAttr(1.0)
     cube.CreateExtentAttr([pxr.Gf.Vec3f(-0.5, -0.5, -0.5), pxr.Gf.Vec3f(0.5, 0.5, 0.5)])
     cube.CreateDisplayColorAttr([pxr.Gf.Vec3f(*rgb)])
-    pxr.UsdPhysics.CollisionAPI.Apply(cube.GetPrim())
+    if collision:
+        pxr.UsdPhysics.CollisionAPI.Apply(cube.GetPrim())
     return cube
 
 
@@ -226,7 +231,8 @@ def usd_stage(
                         "surface": str(b.meta.get("surface", "floor"))})
         _label(xform, b.category)
         r, g, bl, _ = category_colour(b.category)
-        box = _unit_cube(pxr, stage, f"{path}/box", (r / 255, g / 255, bl / 255))
+        box = _unit_cube(pxr, stage, f"{path}/box", (r / 255, g / 255, bl / 255),
+                         collision=collides(b))
         _place(pxr, box.GetPrim(), (0.0, 0.0, b.extents[2] / 2), scale=b.extents)
         if is_movable(b, moving):
             UsdPhysics.RigidBodyAPI.Apply(xform)

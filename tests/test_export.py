@@ -650,6 +650,17 @@ def test_write_exports_writes_every_format_beside_the_stem(layout, tmp_path, pxr
     assert [p.name for p in again] == ["room.0007.habitat", "room.0007.xml"]
 
 
+def test_write_exports_writes_the_same_bytes_twice(layout, tmp_path, pxr):
+    def files(root):
+        return {str(p.relative_to(root)): p.read_bytes() for p in sorted(root.rglob("*"))
+                if p.is_file()}
+
+    for run in ("a", "b"):
+        export.write_exports(layout, tmp_path / run / "room", export.EXPORT_FORMATS,
+                             movable="lamp")
+    assert files(tmp_path / "a") == files(tmp_path / "b")
+
+
 def test_write_exports_refuses_unknown_formats_before_writing(layout, tmp_path):
     with pytest.raises(ValueError, match="accepted: glb, usd, mjcf, habitat"):
         export.write_exports(layout, tmp_path / "room", ["glb", "fbx"])

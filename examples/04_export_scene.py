@@ -1,10 +1,11 @@
-"""Export a layout as a 3D scene: GLB, OBJ, Habitat scene instance, USDA, and a 3D picture.
+"""Export a layout as a 3D scene: GLB, OBJ, USD with physics, MJCF, Habitat, and a 3D picture.
 
 Shows how to solve a bundled plan once, turn the layout into a trimesh scene
 (floor, walls with door and window gaps, a box per object at its pose), write
-it in the formats robotics users load (GLB for viewers, a Habitat-style scene
-dataset folder, plain-text USD), and draw an isometric picture without a GPU.
-Needs the export extra: ``pip install "forcelayout[export]"``.
+it in the formats robotics users load (GLB for viewers, USD with UsdPhysics
+for Isaac Sim, MJCF for MuJoCo, a habitat-sim scene dataset folder), all of
+them at once with ``write_exports``, and draw an isometric picture without a
+GPU. Needs the export extra: ``pip install "forcelayout[export]"``.
 
 Run: ``python examples/04_export_scene.py [OUT_DIR]``
 """
@@ -31,12 +32,18 @@ print(f"{len(objects)} object boxes, room extent {scene.extents.round(2)} m (x, 
 transform, _ = scene.graph["bed"]
 print("bed bottom centre:", transform[:3, 3].round(2))
 
-# %% Files: GLB and OBJ are written y up (glTF's convention), USDA z up.
+# %% Files: GLB and OBJ are written y up (glTF's convention), USD and MJCF z up.
+# Chairs and lamps become movable bodies in USD, MJCF and Habitat; the rest is static.
 glb = export.export_glb(layout, out / "bedroom.glb")
 obj = export.export_obj(layout, out / "bedroom.obj")
-usda = export.export_usd(layout, out / "bedroom.usda")
+usda = export.export_usd(layout, out / "bedroom.usda", movable=["chair", "lamp"])
+mjcf = export.export_mjcf(layout, out / "bedroom.xml", movable=["chair", "lamp"])
 habitat = export.export_habitat(layout, out / "habitat")
-for path in (glb, obj, usda, habitat):
+for path in (glb, obj, usda, mjcf, habitat):
+    print("wrote", path)
+
+# %% Or every simulator format at once, each file moved into place only when complete.
+for path in export.write_exports(layout, out / "all" / "bedroom_0", export.EXPORT_FORMATS):
     print("wrote", path)
 
 # %% A 3D picture (parallel projection, painter's algorithm; matplotlib only).

@@ -10,7 +10,7 @@ import sys
 import forcelayout
 
 plan = forcelayout.examples.load_example("bedroom")
-for heavy in ("openai", "trimesh", "torch"):
+for heavy in ("openai", "trimesh", "pxr", "mujoco", "torch"):
     if heavy in sys.modules:
         raise SystemExit(f"import forcelayout imported the optional package {heavy!r}")
 for module, extra in (("forcelayout.llm", "llm"), ("forcelayout.export", "export")):

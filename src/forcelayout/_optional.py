@@ -22,7 +22,7 @@ from forcelayout.errors import MissingExtraError
 __all__ = ["import_optional"]
 
 
-def import_optional(module: str, extra: str) -> ModuleType:
+def import_optional(module: str, extra: str, *, package: str | None = None) -> ModuleType:
     """Import ``module``, or raise an ImportError that names the extra to install.
 
     Parameters
@@ -31,6 +31,9 @@ def import_optional(module: str, extra: str) -> ModuleType:
         Dotted module name, e.g. ``"openai"``.
     extra : str
         The forcelayout pip extra that installs it, e.g. ``"llm"``.
+    package : str, optional
+        The pip package that provides the module when its name differs from
+        the module's (``"usd-core"`` provides ``pxr``); named in the message.
 
     Returns
     -------
@@ -47,8 +50,9 @@ def import_optional(module: str, extra: str) -> ModuleType:
         return importlib.import_module(module)
     except ImportError as e:
         top = module.partition(".")[0]
+        what = repr(top) if package is None else f"{package!r} (module {top!r})"
         raise MissingExtraError(
-            f"this feature needs the optional package {top!r}, which is not installed "
+            f"this feature needs the optional package {what}, which is not installed "
             f"({e}). Install it with: pip install \"forcelayout[{extra}]\"",
             name=module,
         ) from e

@@ -1,8 +1,9 @@
 """The ``forcelayout`` command line.
 
-Sub-commands: ``generate``, ``dataset``, ``rules``, ``validate``, ``render``; optional
-subpackages add their own (``plan`` from ``forcelayout.llm``) through a
-``register(subparsers)`` function in their ``cli`` module. A missing extra
+Sub-commands: ``generate``, ``dataset``, ``rules``, ``validate``, ``render``;
+optional subpackages add their own (``plan`` from ``forcelayout.llm``,
+``export`` from :mod:`forcelayout.export_cmd`) through a
+``register(subparsers)`` function in their command module. A missing extra
 turns into a command that says which extra to install.
 """
 
@@ -18,7 +19,8 @@ from pathlib import Path
 __all__ = ["main", "build_parser"]
 
 #: Optional subpackages that add sub-commands: (module, extra, commands it adds).
-OPTIONAL_COMMANDS = [("forcelayout.llm.cli", "llm", ["plan"])]
+OPTIONAL_COMMANDS = [("forcelayout.llm.cli", "llm", ["plan"]),
+                     ("forcelayout.export_cmd", "export", ["export"])]
 
 
 def _cmd_generate(args: argparse.Namespace) -> int:

@@ -11,6 +11,7 @@ local +x points along ``(cos yaw, sin yaw)``, local +y along
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -19,7 +20,12 @@ import shapely
 from forcelayout.layout import Layout
 from forcelayout.plan import Room
 
-__all__ = ["Box", "room_boxes", "object_boxes", "floor_mesh", "box_mesh", "wall_convexity"]
+__all__ = ["Box", "room_boxes", "object_boxes", "floor_mesh", "box_mesh", "wall_convexity",
+           "movable_names", "is_movable", "collides", "DEFAULT_DENSITY"]
+
+#: Kilograms per cubic metre of an object's box when it is exported as a movable body
+#: (a box full of wood would be ~600; furniture is mostly air).
+DEFAULT_DENSITY = 100.0
 
 #: Cap on the pieces one wall is cut into (openings are few; this only bounds the loop).
 _MAX_PIECES = 10_000
@@ -46,7 +52,9 @@ class Box:
         The object's category, or ``"wall"``.
     meta : dict
         Extra facts: a wall piece's ``wall`` index and ``inward`` unit normal
-        (x, y) pointing into the room; an object's ``surface``.
+        (x, y) pointing into the room; an object's ``surface`` and whether
+        it is ``walkable`` (a floor cover such as a rug, see
+        :attr:`forcelayout.plan.SceneObject.is_walkable`).
     """
 
     name: str
@@ -215,7 +223,7 @@ def object_boxes(layout: Layout) -> list[Box]:
             centre=np.array([p.x, p.y, p.z + h / 2]),
             extents=np.array([w, d, h]),
             yaw=float(p.yaw), kind="object", category=obj.category,
-            meta={"surface": p.surface},
+            meta={"surface": p.surface, "walkable": obj.is_walkable},
         ))
     return out
 
@@ -259,3 +267,44 @@ def floor_mesh(polygon: np.ndarray, *, thickness: float = 0.05) -> tuple[np.ndar
     vertices = np.concatenate([np.column_stack([p, np.zeros(n)]),
                                np.column_stack([p, np.full(n, -float(thickness))])])
     return vertices, np.concatenate([top_f, bottom_f, sides])
+
+
+def movable_names(movable: str | Iterable[str] | None) -> frozenset[str]:
+    """The categories (or object ids) given as ``movable``, as a set.
+
+    A string is read as a comma-separated list (``"chair,lamp"``); blanks are
+    dropped.
+    """
+    if movable is None:
+        return frozenset()
+    items = movable.split(",") if isinstance(movable, str) else list(movable)
+    out = set()
+    for item in items:
+        if not isinstance(item, str):
+            raise TypeError(f"movable: expected category names (str), got {item!r}")
+        if item.strip():
+            out.add(item.strip())
+    return frozenset(out)
+
+
+def is_movable(box: Box, movable: frozenset[str]) -> bool:
+    """Whether an object's box is exported as a movable body: its category or its id is listed.
+
+    Names that no object of the layout has are ignored (one list serves many
+    plans). Objects on a wall or the ceiling hang there and stay static, and
+    so do walkable floor covers (they do not collide, see :func:`collides`).
+    """
+    surface = str(box.meta.get("surface", "floor"))
+    hanging = surface == "ceiling" or surface.startswith("wall:")
+    return (box.kind == "object" and not hanging and collides(box)
+            and (box.category in movable or box.name in movable))
+
+
+def collides(box: Box) -> bool:
+    """Whether a box gets a collision shape: walkable floor covers (rugs, mats) do not.
+
+    The library treats them as no obstacle (furniture stands on them, people
+    walk over them), and their box overlaps the feet of what stands on them,
+    which a physics engine would push apart.
+    """
+    return not box.meta.get("walkable", False)

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from forcelayout._optional import import_optional
+from forcelayout.export._atomic import write_bytes
 from forcelayout.export._boxes import Box, box_mesh, floor_mesh, object_boxes, room_boxes
 from forcelayout.layout import Layout
 
@@ -111,6 +112,21 @@ def _pick_asset(assets: Mapping[str, AssetLike] | None, box: Box) -> AssetLike |
     return assets.get(box.category)
 
 
+def check_assets(layout: Layout, assets: Mapping[str, AssetLike] | None) -> None:
+    """Refuse asset keys that are neither object ids nor categories of the layout's plan.
+
+    Raises
+    ------
+    KeyError
+        Naming the unknown keys.
+    """
+    unknown = sorted(set(assets or {}) - set(layout.plan.ids)
+                     - {o.category for o in layout.plan.objects})
+    if unknown:
+        raise KeyError(f"assets: {unknown} are neither object ids nor categories of plan "
+                       f"{layout.plan.name!r}")
+
+
 def room_scene(layout: Layout, *, wall_thickness: float = 0.1, floor_thickness: float = 0.05,
                y_up: bool = False) -> Any:
     """Only the room (floor and walls) as a trimesh.Scene, in the frame :func:`scene` uses."""
@@ -189,11 +205,7 @@ def scene(
                                  "units": "metres", "up": "+y" if y_up else "+z"})
     _add_room(sc, layout, wall_thickness, floor_thickness, y_up)
     root = Z_UP_TO_Y_UP if y_up else np.eye(4)
-    unknown = sorted(set(assets or {}) - set(layout.plan.ids)
-                     - {o.category for o in layout.plan.objects})
-    if unknown:
-        raise KeyError(f"assets: {unknown} are neither object ids nor categories of plan "
-                       f"{layout.plan.name!r}")
+    check_assets(layout, assets)
     for b in object_boxes(layout):
         mesh = object_mesh(b, asset=_pick_asset(assets, b), plan=layout.plan.name)
         sc.add_geometry(mesh, node_name=b.name, geom_name=b.name,
@@ -209,7 +221,8 @@ def export_glb(layout: Layout, path: str | Path, *, y_up: bool = True, **kwargs:
     ----------
     layout : Layout
     path : str or Path
-        File to write (parent folders are created).
+        File to write (parent folders are created; the file appears only
+        when complete).
     y_up : bool
         True (default): glTF's y-up frame, ``(x, y, z) -> (x, z, -y)``.
         False: the plan's z-up frame.
@@ -221,11 +234,8 @@ def export_glb(layout: Layout, path: str | Path, *, y_up: bool = True, **kwargs:
     Path
         The file written.
     """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     data = scene(layout, y_up=y_up, **kwargs).export(file_type="glb")
-    path.write_bytes(data)
-    return path
+    return write_bytes(path, data)
 
 
 def export_obj(layout: Layout, path: str | Path, *, y_up: bool = True, **kwargs: Any) -> Path:

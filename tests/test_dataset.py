@@ -185,3 +185,26 @@ def test_a_dask_cluster_writes_the_same_bytes(whole, tmp_path):
         build_dataset(["bedroom", "home_office"], 3, tmp_path, seed=5, pictures="svg",
                       executor=client.get_executor())
     assert digest(tmp_path) == digest(whole)
+
+
+def test_exports_are_written_in_the_workers_and_resume_to_the_same_bytes(tmp_path):
+    pytest.importorskip("trimesh")
+    pytest.importorskip("pxr")
+    kw = dict(seed=1, pictures="none", exports=["glb", "usd", "mjcf", "habitat"],
+              movable=["chair"])
+    with ProcessPoolExecutor(2) as pool:
+        build_dataset("home_office", 2, tmp_path / "a", executor=pool, **kw)
+    (entry, _) = [json.loads(line) for line in (tmp_path / "a" / "index.jsonl").open()]
+    assert entry["files"] == ["home_office_000.json", "home_office_000.glb",
+                              "home_office_000.usda", "home_office_000.xml",
+                              "home_office_000.habitat"]
+
+    def stop(done, total):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        build_dataset("home_office", 2, tmp_path / "b", progress=stop, **kw)
+    build_dataset("home_office", 2, tmp_path / "b", **kw)
+    assert digest(tmp_path / "b") == digest(tmp_path / "a")
+    with pytest.raises(DatasetError, match="unknown export format.*'obj'"):
+        build_dataset("home_office", 2, tmp_path / "c", exports=["obj"])

@@ -42,6 +42,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+from forcelayout._atomic import TMP_MARK, atomic_path, write_text
 from forcelayout.diagnose import dominant_cause
 from forcelayout.layout import Layout, SampleReport
 from forcelayout.options import Options
@@ -178,21 +179,6 @@ def plan_sources(sources: Iterable[Plan | str | Path | dict[str, Any]]) -> list[
 # ----------------------------------------------------------------------------- files
 
 
-def _write_atomic(path: Path, write: Callable[[Path], Any]) -> None:
-    """Call ``write(tmp)`` on a temporary name beside ``path``, then rename it to ``path``."""
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-
-
-def _write_text(path: Path, text: str) -> None:
-    _write_atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
-
-
 def _json(data: Any) -> str:
     return json.dumps(data, indent=2, sort_keys=True) + "\n"
 
@@ -224,7 +210,8 @@ def _write_layout(layout: Layout, folder: str, stem: str, pictures: str,
     files: list[str] = []
     if pictures != "none":
         pic = where / f"{stem}.{pictures}"
-        _write_atomic(pic, lambda tmp: layout.picture(tmp))
+        with atomic_path(pic) as tmp:
+            layout.picture(tmp)
         files.append(pic.name)
     if exports:
         from forcelayout.export import write_exports
@@ -232,7 +219,7 @@ def _write_layout(layout: Layout, folder: str, stem: str, pictures: str,
         written = write_exports(layout, where / stem, exports, movable=movable)
         files.extend(Path(p).name for p in written)
     main = where / f"{stem}.json"
-    _write_text(main, layout.to_json())
+    write_text(main, layout.to_json())
     files.insert(0, main.name)
     report = check_layout(layout)
     return {"files": files,
@@ -438,9 +425,12 @@ def build_dataset(
         if prompts and entry["name"] in prompts:
             entry["prompt"] = prompts[entry["name"]]
     _prepare_folder(out, manifest, overwrite)
-    _write_text(out / MANIFEST, _json(manifest))
-    for stray in out.glob("**/.*.tmp*"):  # half-written files of a killed run
-        stray.unlink()
+    write_text(out / MANIFEST, _json(manifest))
+    for stray in list(out.glob(f"**/.*{TMP_MARK}*")):  # half-written files of a killed run
+        if stray.is_dir():
+            shutil.rmtree(stray, ignore_errors=True)
+        else:
+            stray.unlink(missing_ok=True)
 
     done = collections.defaultdict(dict)
     for entry in _read_index(out):
@@ -458,7 +448,7 @@ def build_dataset(
             outcome = _run_plan(plan, n, out, seed, budget, pictures, exports, movable,
                                 opts, distinct_tol, executor, done[plan.name], tell, log)
             result.plans.append(outcome)
-        _write_text(out / INDEX, "".join(
+        write_text(out / INDEX, "".join(
             json.dumps(e, sort_keys=True) + "\n"
             for p in plans for _, e in sorted(done[p.name].items())))
     except KeyboardInterrupt:
@@ -508,7 +498,7 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int,
         outcome.accepted = k
         outcome.attempted = json.loads(summary_path.read_text(encoding="utf-8"))["attempted"]
         return outcome
-    _write_text(folder / "plan.json", plan.to_json())
+    write_text(folder / "plan.json", plan.to_json())
     t0 = time.perf_counter()
     seen = DistinctLayouts(distinct_tol)
     for j in range(k):
@@ -572,7 +562,7 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int,
             reasons[key] = reasons.get(key, 0) + count
     if k < n:  # the samples after the last accepted layout, all drawn in this run
         outcome.why = dominant_cause(reports) or "the sample budget ran out"
-    _write_text(summary_path, _json({
+    write_text(summary_path, _json({
         "plan": plan.name, "wanted": n, "accepted": k, "attempted": outcome.attempted,
         "why": outcome.why, "failure_reasons": dict(sorted(reasons.items())),
     }))

@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
-from forcelayout.export._atomic import atomic_dir
+from forcelayout._atomic import atomic_dir
 from forcelayout.layout import Layout
 
 __all__ = ["EXPORT_FORMATS", "export_paths", "parse_formats", "write_exports"]

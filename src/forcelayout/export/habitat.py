@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from forcelayout.export._atomic import write_bytes, write_text
+from forcelayout._atomic import write_bytes, write_text
 from forcelayout.export._boxes import (
     DEFAULT_DENSITY,
     collides,

@@ -42,7 +42,7 @@ from typing import Any
 
 import numpy as np
 
-from forcelayout.export._atomic import atomic_path, write_bytes
+from forcelayout._atomic import atomic_path, write_bytes
 from forcelayout.export._boxes import (
     DEFAULT_DENSITY,
     collides,

@@ -17,8 +17,8 @@ from typing import Any
 
 import numpy as np
 
+from forcelayout._atomic import write_bytes
 from forcelayout._optional import import_optional
-from forcelayout.export._atomic import write_bytes
 from forcelayout.export._boxes import Box, box_mesh, floor_mesh, object_boxes, room_boxes
 from forcelayout.layout import Layout
 

@@ -44,8 +44,8 @@ from typing import Any
 
 import numpy as np
 
+from forcelayout._atomic import atomic_path
 from forcelayout._optional import import_optional
-from forcelayout.export._atomic import atomic_path
 from forcelayout.export._boxes import (
     DEFAULT_DENSITY,
     collides,

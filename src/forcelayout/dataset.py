@@ -36,6 +36,7 @@ import os
 import shutil
 import sys
 import time
+import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import Executor, Future
 from dataclasses import asdict, dataclass, field
@@ -43,11 +44,16 @@ from pathlib import Path
 from typing import Any
 
 from forcelayout._atomic import TMP_MARK, atomic_path, write_text
-from forcelayout.diagnose import dominant_cause
+from forcelayout.diagnose import FeasibilityWarning, dominant_cause
 from forcelayout.layout import Layout, SampleReport
 from forcelayout.options import Options
 from forcelayout.plan import Plan
-from forcelayout.sampling import DistinctLayouts, executor_workers, iter_samples
+from forcelayout.sampling import (
+    DistinctLayouts,
+    executor_workers,
+    iter_samples,
+    plan_feasibility,
+)
 from forcelayout.sources import load_plan
 
 __all__ = [
@@ -364,7 +370,8 @@ def build_dataset(
         3D formats per layout (``forcelayout.export.EXPORT_FORMATS``: glb, usd,
         mjcf, habitat); needs the ``export`` extra.
     movable : sequence of str
-        Categories exported as movable rigid bodies (USD).
+        Categories exported as movable bodies (USD rigid bodies, MJCF free
+        joints, Habitat ``DYNAMIC``).
     max_attempts : int, optional
         Sample budget per plan; default ``max(4 n, n + 20)``.
     distinct_tol : float
@@ -392,6 +399,11 @@ def build_dataset(
     KeyboardInterrupt
         Passed on after the finished layouts are safely in the index; running
         the same call again resumes.
+
+    Warns
+    -----
+    FeasibilityWarning
+        Before sampling, for each plan that looks infeasible (sampling goes on).
     """
     if isinstance(n, bool) or not isinstance(n, int) or n < 0:
         raise DatasetError(f"n must be a whole number >= 0, got {n!r}")
@@ -412,12 +424,17 @@ def build_dataset(
     plans = plan_sources(sources)
     from forcelayout.pipeline import prepare
 
+    opts = options or Options()
     for plan in plans:
         prepare(plan)  # plan-level problems surface before any sample runs
+        feas = plan_feasibility(plan, opts)
+        if not feas.ok:
+            warnings.warn(FeasibilityWarning(
+                f"plan {plan.name!r} looks infeasible before sampling: {'; '.join(feas.notes)}; "
+                "sampling anyway", feas), stacklevel=2)
     budget = max(4 * n, n + 20) if max_attempts is None else int(max_attempts)
     if budget < 0:
         raise DatasetError(f"max_attempts must be >= 0, got {max_attempts}")
-    opts = options or Options()
     movable = tuple(movable)
     out = Path(out)
     manifest = _manifest(plans, n, seed, budget, pictures, exports, movable, opts, distinct_tol)

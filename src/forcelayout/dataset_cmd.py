@@ -24,6 +24,7 @@ from typing import Any
 
 from forcelayout import examples
 from forcelayout.dataset import MANIFEST, DatasetError, build_dataset
+from forcelayout.diagnose import feasibility_warnings_as_lines
 from forcelayout.options import Options
 from forcelayout.plan import Plan
 
@@ -124,6 +125,7 @@ def run_dataset(args: argparse.Namespace) -> int:
     movable = [c.strip() for c in args.movable.split(",") if c.strip()]
     sources, prompts = _plans(args)
     with ExitStack() as stack:
+        stack.enter_context(feasibility_warnings_as_lines())
         executor = _executor(args, stack)
         try:
             result = build_dataset(sources, args.n, args.out, seed=args.seed, executor=executor,

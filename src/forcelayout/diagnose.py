@@ -25,8 +25,11 @@ from __future__ import annotations
 
 import math
 import re
+import sys
+import warnings
 from collections import Counter
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -37,7 +40,7 @@ from forcelayout.plan import MAX_FLOOR_FILL, Plan
 from forcelayout.sources import load_plan
 
 __all__ = ["Feasibility", "feasibility", "dominant_cause", "WALL_PLACES", "FeasibilityWarning",
-           "FewLayoutsWarning", "EmptyGenerationError"]
+           "FewLayoutsWarning", "EmptyGenerationError", "feasibility_warnings_as_lines"]
 
 #: Start-hint places (:attr:`StartHint.place`) that put an object against a wall.
 WALL_PLACES = frozenset({"wall", "corner"})
@@ -472,3 +475,25 @@ def dominant_cause(reports: Iterable[Any]) -> str | None:
         parts.append(f"{_names(who)} {verb} the path to {_names(what)}"
                      if what else f"{_names(who)} {verb} the way")
     return "; ".join([head, *parts])
+
+
+@contextmanager
+def feasibility_warnings_as_lines() -> Iterator[None]:
+    """Inside the block, every :class:`FeasibilityWarning` is one ``warning: ...`` line on stderr.
+
+    For command lines: the warning is shown each time (not once per place),
+    without the file and line of the code that raised it. Other warnings
+    are shown as usual; :class:`FewLayoutsWarning` is left to the caller.
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", FeasibilityWarning)
+        show = warnings.showwarning
+
+        def say(message: Any, category: type[Warning], *rest: Any, **kw: Any) -> None:
+            if issubclass(category, FeasibilityWarning):
+                print(" ".join(f"warning: {message}".split()), file=sys.stderr, flush=True)
+            else:
+                show(message, category, *rest, **kw)
+
+        warnings.showwarning = say
+        yield

@@ -25,7 +25,7 @@ from concurrent.futures import Executor, ProcessPoolExecutor
 from pathlib import Path
 
 from forcelayout.dataset import layout_stem
-from forcelayout.diagnose import FeasibilityWarning, FewLayoutsWarning
+from forcelayout.diagnose import FewLayoutsWarning, feasibility_warnings_as_lines
 from forcelayout.layout import Layout
 from forcelayout.plan import Plan
 from forcelayout.sampling import Options, generate
@@ -78,18 +78,8 @@ def run_generate(args: argparse.Namespace) -> int:
     opts = Options(relations=not args.no_relations, decor=not args.no_decor)
     executor: Executor | None = ProcessPoolExecutor(args.workers) if args.workers > 1 else None
     try:
-        with warnings.catch_warnings():
+        with feasibility_warnings_as_lines():
             warnings.simplefilter("ignore", FewLayoutsWarning)  # said below as a hint
-            warnings.simplefilter("always", FeasibilityWarning)
-            show = warnings.showwarning
-
-            def say(message, category, *rest, **kw):  # a feasibility warning as one plain line
-                if issubclass(category, FeasibilityWarning):
-                    print(" ".join(f"warning: {message}".split()), file=sys.stderr, flush=True)
-                else:
-                    show(message, category, *rest, **kw)
-
-            warnings.showwarning = say
             result = generate(plan, args.n, seed=args.seed, executor=executor,
                               max_attempts=args.max_attempts, progress=not args.quiet,
                               on_layout=write, options=opts)

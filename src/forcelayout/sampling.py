@@ -46,6 +46,7 @@ __all__ = [
     "generate",
     "iter_samples",
     "executor_workers",
+    "plan_feasibility",
     "sample_seed",
 ]
 
@@ -496,7 +497,7 @@ def generate(
     budget = max(4 * n, n + 20) if max_attempts is None else int(max_attempts)
     if budget < 0:
         raise ValueError(f"max_attempts must be >= 0, got {max_attempts}")
-    feas = _feasibility(plan, opts)
+    feas = plan_feasibility(plan, opts)
     if not feas.ok:
         warnings.warn(FeasibilityWarning(
             f"plan {plan.name!r} looks infeasible before sampling: {'; '.join(feas.notes)}; "
@@ -542,8 +543,14 @@ def generate(
     return result
 
 
-def _feasibility(plan: Plan, opts: Options) -> Feasibility:
-    """The feasibility of the plan as sampled, with the thresholds the checks will use."""
+def plan_feasibility(plan: Plan, opts: Options | None = None) -> Feasibility:
+    """:func:`~forcelayout.diagnose.feasibility` of the plan as ``opts`` sample and judge it.
+
+    Uses the thresholds the checks will use (``opts.check_kwargs``), no free
+    floor when the checks are off, and the plan without decor when
+    ``opts.decor`` is False.
+    """
+    opts = opts or Options()
     kw = {k: opts.check_kwargs[k] for k in ("agent_radius", "min_free_fraction")
           if k in opts.check_kwargs}
     if not opts.check:  # no navigability check: the free floor asks for nothing

@@ -34,7 +34,10 @@ def test_the_folder_holds_layouts_index_and_summaries(whole):
         ("bedroom", 0), ("bedroom", 1), ("bedroom", 2),
         ("home_office", 0), ("home_office", 1), ("home_office", 2)]
     plan = fl.load_plan("bedroom")
+    from test_docs import INDEX_LINE_KEYS  # the keys docs/scale.md shows
+
     for e in index:
+        assert e.keys() == INDEX_LINE_KEYS
         assert e["files"][0] == f"{e['plan']}_{e['layout']:03d}.json"
         assert e["checks"]["passed"] and e["rule_satisfaction"] >= 0.95
         assert e["seed"] == fl.sampling.sample_seed(5, e["sample"])

@@ -30,6 +30,11 @@ LLM_MARKER = "# needs: llm-endpoint"
 FENCE = re.compile(r"^```python[^\n]*\n(.*?)^```", re.S | re.M)
 JSON_FENCE = re.compile(r"^```json[^\n]*\n(.*?)^```", re.S | re.M)
 POOL = re.compile(r"ProcessPoolExecutor\(\s*(?:max_workers\s*=\s*)?(\d*)")
+#: The keys of a line of a dataset's index.jsonl (tests/test_dataset.py checks real ones).
+INDEX_LINE_KEYS = {"plan", "layout", "sample", "seed", "files", "rule_satisfaction",
+                   "rejected_before", "checks"}
+#: Blocks that need a cluster: a scheduler queue, Ray, or more local workers than CI has.
+CLUSTER = re.compile(r"SLURMCluster|ray\.init|LocalCluster\(n_workers=([3-9]|\d\d)")
 
 #: Modules and subpackages whose ``__all__`` docs/api.md must cover.
 PUBLIC_MODULES = (
@@ -80,6 +85,8 @@ def skip_reason(code: str) -> str | None:
     """Why a block cannot run in the test suite, or None when it can."""
     if LLM_MARKER in code:
         return "needs an LLM endpoint"
+    if CLUSTER.search(code):
+        return "starts a cluster"
     for workers in POOL.findall(code):
         if not workers or int(workers) > 2:
             return "starts a process pool with more than 2 workers"
@@ -148,6 +155,9 @@ def test_skip_rules():
     assert skip_reason("ProcessPoolExecutor(max_workers=4)") is not None
     assert skip_reason("ProcessPoolExecutor(2)") is None
     assert skip_reason("import forcelayout") is None
+    assert skip_reason("LocalCluster(n_workers=8)") == "starts a cluster"
+    assert skip_reason("LocalCluster(n_workers=2)") is None
+    assert skip_reason("cluster = SLURMCluster(cores=32)") == "starts a cluster"
 
 
 def _public_names() -> list[tuple[str, str]]:
@@ -201,8 +211,11 @@ def test_json_blocks_are_valid_plans_and_rules():
                 fl.Plan.from_dict(data)
             elif isinstance(data, dict) and "rule" in data:
                 fl.RuleSpec.model_validate(data)
+            elif isinstance(data, dict) and "layout" in data:  # a dataset's index line
+                assert data.keys() == INDEX_LINE_KEYS, where
             else:
-                pytest.fail(f"{where}: a JSON block that is neither a plan nor a rule")
+                pytest.fail(f"{where}: a JSON block that is neither a plan, a rule nor an "
+                            "index line")
             seen += 1
     assert seen >= 1
 

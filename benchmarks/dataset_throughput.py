@@ -3,11 +3,12 @@
 For each executor (one process, a process pool of 2, a Dask ``LocalCluster``
 of 2 single-threaded worker processes) and pictures on and off, writes a
 dataset of ``-n`` layouts of each plan with :func:`forcelayout.build_dataset`
-into a fresh folder and times it (the cluster's start-up is timed apart).
-Beside it, the library's rejection-sampling baseline's good layouts/s on
-one core for the same plans (no files written). With ``--ratio`` it also
-times ``n`` and ``10 n`` layouts of the first plan (2 processes, no
-pictures): near 10 means the cost grows linearly with the dataset.
+into a fresh folder and times it (the cluster's start-up is timed apart),
+with the disk space per layout. Beside it, the library's rejection-sampling
+baseline's good layouts/s on one core for the same plans (no files
+written). With ``--ratio`` it also times ``n`` and ``10 n`` layouts of the
+first plan (2 processes, no pictures): near 10 means the cost grows
+linearly with the dataset.
 
 Prints JSON. Usage::
 
@@ -35,9 +36,11 @@ def timed(plans: list[str], n: int, executor, pictures: str, root: Path) -> dict
     t0 = time.perf_counter()
     result = build_dataset(plans, n, out, executor=executor, pictures=pictures)
     seconds = time.perf_counter() - t0
+    size = sum(p.stat().st_size for p in out.rglob("*") if p.is_file())
     shutil.rmtree(out)
     return {"pictures": pictures, "layouts": result.accepted, "seconds": round(seconds, 2),
-            "layouts_per_s": round(result.accepted / seconds, 2)}
+            "layouts_per_s": round(result.accepted / seconds, 2),
+            "kb_per_layout": round(size / max(result.accepted, 1) / 1024, 1)}
 
 
 def main() -> None:

@@ -66,7 +66,7 @@ def main() -> None:
 
             t0 = time.perf_counter()
             with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                          dashboard_address=None) as cluster, \
+                                          dashboard_address=":0") as cluster, \
                     distributed.Client(cluster) as client:
                 startup = time.perf_counter() - t0
                 for pictures in ("none", "png"):

@@ -183,7 +183,7 @@ def test_a_refused_folder_is_one_line(whole, capsys):
 def test_a_dask_cluster_writes_the_same_bytes(whole, tmp_path):
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, \
+                                  dashboard_address=":0") as cluster, \
             distributed.Client(cluster) as client:
         build_dataset(["bedroom", "home_office"], 3, tmp_path, seed=5, pictures="svg",
                       executor=client.get_executor())

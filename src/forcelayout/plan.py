@@ -39,8 +39,10 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
+    SerializerFunctionWrapHandler,
     ValidationError,
     field_validator,
+    model_serializer,
     model_validator,
 )
 
@@ -162,6 +164,46 @@ class SceneObject(_Model):
         "Free floor kept clear beside the object so a person can use it: None = the default "
         "of its category (front of a wardrobe, desk, sofa, fridge; a long side of a bed; "
         "see forcelayout.access), false = none."))
+    asset: str | None = Field(None, min_length=1, description=(
+        "Id of the asset (mesh) this object was grounded to, in an asset library's "
+        "assets.json (see forcelayout.grounding); None = a box."))
+    footprint: list[tuple[Metres, Metres]] | None = Field(None, min_length=3, max_length=16,
+                                                          description=(
+        "Convex footprint polygon [[x, y], ...] in the object's frame (metres, front +y, "
+        "inside the size's [w, d] box), used as the object's Box2D fixture instead of the "
+        "rectangle; None = the rectangle. Checks and pictures still use the rectangle."))
+
+    @field_validator("footprint")
+    @classmethod
+    def _convex_footprint(cls, v: list[tuple[float, float]] | None
+                          ) -> list[tuple[float, float]] | None:
+        if v is None:
+            return v
+        hull = shapely.MultiPoint(v).convex_hull
+        if hull.geom_type != "Polygon" or hull.area <= 1e-9:
+            raise ValueError("the footprint needs at least 3 corners enclosing a non-zero area")
+        if abs(hull.area - shapely.Polygon(v).area) > 1e-6 * max(hull.area, 1.0) \
+                or not shapely.Polygon(v).is_valid:
+            raise ValueError("the footprint must be a convex polygon with its corners in order")
+        return v
+
+    @model_validator(mode="after")
+    def _footprint_in_box(self) -> SceneObject:
+        if self.footprint is not None:
+            w, d = self.size[0] / 2 + 1e-6, self.size[1] / 2 + 1e-6
+            if any(abs(x) > w or abs(y) > d for x, y in self.footprint):
+                raise ValueError(f"the footprint of {self.id!r} leaves its size's "
+                                 f"{self.size[0]:g} x {self.size[1]:g} m box centred on 0")
+        return self
+
+    @model_serializer(mode="wrap")
+    def _drop_unset_grounding(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        # plans without assets keep the JSON (and the hash) they had before these fields
+        data = handler(self)
+        for key in ("asset", "footprint"):
+            if key in data and data[key] is None:
+                del data[key]
+        return data
 
     @property
     def is_walkable(self) -> bool:

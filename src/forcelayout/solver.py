@@ -1,7 +1,8 @@
 """The Box2D world and the annealed step loop (the only module that imports Box2D).
 
 The world is top-down with zero gravity. Every simulated object is a dynamic
-rigid body whose fixture is its footprint rectangle; the room (any simple
+rigid body whose fixture is its footprint rectangle (or the convex polygon
+of ``SceneObject.footprint``, e.g. a grounded mesh's outline); the room (any simple
 polygon) is a static chain of walls. Each step:
 
 1. read the poses of all bodies into numpy arrays;
@@ -89,6 +90,24 @@ def _world(room: RoomGeometry, obstacles: list[np.ndarray] | None = None) -> b2W
     return world
 
 
+def _footprints(model: ForceModel) -> list[list[tuple[float, float]] | None]:
+    """Each row's convex footprint polygon (``SceneObject.footprint``), or None for its box.
+
+    A footprint is used only where the row is simulated at the object's own
+    width and depth (the floor), not where a plane sees it otherwise.
+    """
+    objects = {o.id: o for o in model.plan.objects}
+    out: list[list[tuple[float, float]] | None] = []
+    for r, oid in enumerate(model.ids):
+        o = objects.get(oid)
+        fp = getattr(o, "footprint", None)
+        if fp is None or not np.allclose(model.size[r, :2], o.size[:2]):
+            out.append(None)
+        else:
+            out.append([(float(x), float(y)) for x, y in fp])
+    return out
+
+
 def simulate(
     model: ForceModel,
     pos: np.ndarray,
@@ -132,6 +151,7 @@ def simulate(
     world = _world(model.room, obstacles)
     bodies = []
     walkable = model.walkable
+    hulls = _footprints(model)
     for r in range(n):
         hw, hd = (float(v) for v in model.size[r, :2] * 0.5)
         kw = dict(position=(float(pos[r, 0]), float(pos[r, 1])), angle=float(yaw[r]),
@@ -139,7 +159,8 @@ def simulate(
         b = world.CreateStaticBody(**kw) if fixed[r] else world.CreateDynamicBody(**kw)
         # walls collide with everything; furniture with furniture; covers with walls only
         layer = _COVER if walkable[r] else _SOLID
-        b.CreatePolygonFixture(box=(hw, hd), density=1.0, friction=0.0, restitution=0.0,
+        shape = {"box": (hw, hd)} if hulls[r] is None else {"vertices": hulls[r]}
+        b.CreatePolygonFixture(**shape, density=1.0, friction=0.0, restitution=0.0,
                                categoryBits=layer, maskBits=_WALLS | (0 if walkable[r] else _SOLID))
         bodies.append(b)
     moving = [b for b, f in zip(bodies, fixed, strict=True) if not f]

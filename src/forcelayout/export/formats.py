@@ -12,8 +12,9 @@ formats asked for, every file or folder moved into place only when complete.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 from forcelayout._atomic import atomic_dir
 from forcelayout.layout import Layout
@@ -79,6 +80,7 @@ def write_exports(
     formats: Sequence[str] | str,
     *,
     movable: str | Iterable[str] = (),
+    assets: Mapping[str, Any] | None = None,
 ) -> list[Path]:
     """Write ``layout`` in each of ``formats`` next to ``stem``; returns what was written.
 
@@ -103,6 +105,11 @@ def write_exports(
         Categories (or object ids) exported as movable bodies: USD rigid
         bodies, MJCF free joints, Habitat ``"DYNAMIC"`` instances. Everything
         else is static. Names no object has are ignored.
+    assets : mapping, optional
+        Meshes instead of boxes, keyed by object id or category (e.g.
+        :func:`forcelayout.grounding.scene_assets` of a grounded plan), in
+        every format: GLB nodes, USD meshes and MJCF mesh geoms (both collided
+        by their convex hull), Habitat object GLBs.
 
     Returns
     -------
@@ -127,13 +134,13 @@ def write_exports(
     for fmt in wanted:
         path = _at(stem, fmt)
         if fmt == "glb":
-            export_glb(layout, path)
+            export_glb(layout, path, assets=assets)
         elif fmt == "usd":
-            export_usd(layout, path, movable=movable)
+            export_usd(layout, path, movable=movable, assets=assets)
         elif fmt == "mjcf":
-            export_mjcf(layout, path, movable=movable)
+            export_mjcf(layout, path, movable=movable, assets=assets)
         else:
             with atomic_dir(path) as tmp:
-                export_habitat(layout, tmp, movable=movable)
+                export_habitat(layout, tmp, movable=movable, assets=assets)
         written.append(path)
     return written

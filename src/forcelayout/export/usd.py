@@ -12,6 +12,8 @@ metres (``upAxis = "Z"``, ``metersPerUnit = 1``, ``kilogramsPerUnit = 1``),
       /Objects                   Xform
         /<id>                    Xform at the object's bottom centre, turned by yaw
           /box                   Cube, size 1, scaled to [w, d, h], raised by h/2  CollisionAPI
+          /mesh                  (with ``assets``: instead of /box) Mesh of the fitted asset,
+                                 CollisionAPI + MeshCollisionAPI approximation "convexHull"
     /physicsScene                UsdPhysics.Scene
 
 Every geometry prim has ``UsdPhysics.CollisionAPI`` and is a static collider
@@ -20,6 +22,12 @@ collider. Objects whose category (or id) is listed in ``movable`` get
 ``UsdPhysics.RigidBodyAPI`` and ``UsdPhysics.MassAPI`` (mass = ``density`` ×
 the box's volume) on their Xform, so the simulator moves them as one body;
 objects on a wall or the ceiling stay static.
+
+With ``assets`` (object id or category -> a ``trimesh.Trimesh``, a
+``trimesh.Scene`` or a mesh file, fitted as in
+:func:`forcelayout.export.scene`), an object is its asset's mesh instead of the
+box; PhysX collides it by its convex hull (``physics:approximation =
+"convexHull"``), a convex collision proxy the simulator computes from the mesh.
 
 The physics scene sits beside ``/World``, not under it: a stage opened on its
 own simulates, and a stage referenced into another (its default prim
@@ -38,7 +46,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -137,6 +145,25 @@ def _custom(prim: Any, data: dict[str, Any]) -> None:
         prim.SetCustomDataByKey(key, value)
 
 
+def _mesh_prim(pxr: Any, stage: Any, path: str, vertices: np.ndarray, faces: np.ndarray,
+               rgb: tuple[float, float, float], collision: bool) -> Any:
+    """A triangle mesh prim; as a collider, PhysX takes its convex hull."""
+    Gf, UsdGeom, UsdPhysics = pxr.Gf, pxr.UsdGeom, pxr.UsdPhysics
+    mesh = UsdGeom.Mesh.Define(stage, path)
+    points = [Gf.Vec3f(*(float(c) for c in p)) for p in vertices]
+    mesh.CreatePointsAttr(points)
+    mesh.CreateFaceVertexCountsAttr([3] * len(faces))
+    mesh.CreateFaceVertexIndicesAttr([int(i) for i in np.asarray(faces).reshape(-1)])
+    mesh.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    mesh.CreateExtentAttr(UsdGeom.PointBased.ComputeExtent(points))
+    mesh.CreateDisplayColorAttr([Gf.Vec3f(*rgb)])
+    if collision:
+        UsdPhysics.CollisionAPI.Apply(mesh.GetPrim())
+        UsdPhysics.MeshCollisionAPI.Apply(mesh.GetPrim()).CreateApproximationAttr(
+            UsdPhysics.Tokens.convexHull)
+    return mesh
+
+
 def usd_stage(
     layout: Layout,
     *,
@@ -144,6 +171,7 @@ def usd_stage(
     density: float = DEFAULT_DENSITY,
     wall_thickness: float = 0.1,
     floor_thickness: float = 0.05,
+    assets: Mapping[str, Any] | None = None,
 ) -> Any:
     """The layout as an in-memory ``pxr.Usd.Stage`` (see the module docstring for the tree).
 
@@ -159,6 +187,10 @@ def usd_stage(
         ``physics:mass`` is ``density * w * d * h``).
     wall_thickness, floor_thickness : float
         Metres, see :func:`forcelayout.export.scene`.
+    assets : mapping, optional
+        Meshes instead of boxes, keyed by object id or category (e.g.
+        :func:`forcelayout.grounding.scene_assets`), fitted to each object's
+        size as in :func:`forcelayout.export.scene`; collided by their convex hull.
 
     Returns
     -------
@@ -219,7 +251,9 @@ def usd_stage(
         _custom(cube.GetPrim(), {"category": "wall", "wall": int(b.meta["wall"]), "plan": plan})
         _label(cube.GetPrim(), "wall")
 
-    from forcelayout.export.scene import category_colour
+    from forcelayout.export.scene import _pick_asset, category_colour, check_assets, object_mesh
+
+    check_assets(layout, assets)
 
     UsdGeom.Xform.Define(stage, "/World/Objects")
     taken: set[str] = set()
@@ -231,9 +265,15 @@ def usd_stage(
                         "surface": str(b.meta.get("surface", "floor"))})
         _label(xform, b.category)
         r, g, bl, _ = category_colour(b.category)
-        box = _unit_cube(pxr, stage, f"{path}/box", (r / 255, g / 255, bl / 255),
-                         collision=collides(b))
-        _place(pxr, box.GetPrim(), (0.0, 0.0, b.extents[2] / 2), scale=b.extents)
+        rgb = (r / 255, g / 255, bl / 255)
+        asset = _pick_asset(assets, b)
+        if asset is None:
+            box = _unit_cube(pxr, stage, f"{path}/box", rgb, collision=collides(b))
+            _place(pxr, box.GetPrim(), (0.0, 0.0, b.extents[2] / 2), scale=b.extents)
+        else:
+            fitted = object_mesh(b, asset=asset, plan=plan)
+            _mesh_prim(pxr, stage, f"{path}/mesh", np.asarray(fitted.vertices),
+                       np.asarray(fitted.faces), rgb, collision=collides(b))
         if is_movable(b, moving):
             UsdPhysics.RigidBodyAPI.Apply(xform)
             mass = UsdPhysics.MassAPI.Apply(xform)
@@ -259,7 +299,7 @@ def export_usd(layout: Layout, path: str | Path, **kwargs: Any) -> Path:
         file appears only when complete (written to a temporary name first).
     **kwargs
         ``movable``, ``density``, ``wall_thickness``, ``floor_thickness``,
-        see :func:`usd_stage`.
+        ``assets``, see :func:`usd_stage`.
 
     Returns
     -------

@@ -2,7 +2,8 @@
 
 Sub-commands: ``generate``, ``dataset``, ``rules``, ``validate``, ``render``;
 optional subpackages add their own (``plan`` from ``forcelayout.llm``,
-``export`` from :mod:`forcelayout.export_cmd`) through a
+``export`` from :mod:`forcelayout.export_cmd`, ``ground`` from
+``forcelayout.grounding``) through a
 ``register(subparsers)`` function in their command module. A missing extra
 turns into a command that says which extra to install.
 """
@@ -20,7 +21,8 @@ __all__ = ["main", "build_parser"]
 
 #: Optional subpackages that add sub-commands: (module, extra, commands it adds).
 OPTIONAL_COMMANDS = [("forcelayout.llm.cli", "llm", ["plan"]),
-                     ("forcelayout.export_cmd", "export", ["export"])]
+                     ("forcelayout.export_cmd", "export", ["export"]),
+                     ("forcelayout.grounding.cli", "grounding", ["ground"])]
 
 
 def _cmd_generate(args: argparse.Namespace) -> int:
@@ -142,6 +144,10 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--no-relations", action="store_true", help="ablation: no relation forces")
     g.add_argument("--no-decor", action="store_true", help="ablation: drop decor objects")
     g.add_argument("--quiet", action="store_true", help="no progress bar")
+    g.add_argument("--assets", type=Path, default=None, metavar="DIR",
+                   help="ground the plan to this asset library first: each object gets a mesh, "
+                        "its size the scaled mesh's (needs forcelayout[grounding]; see "
+                        "`forcelayout ground --help`)")
     g.add_argument("--prompt", default=None,
                    help="plan the scene from this description with an LLM first "
                         "(needs forcelayout[llm]; see `forcelayout plan --help`)")

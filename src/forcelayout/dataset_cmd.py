@@ -4,12 +4,14 @@
 
     forcelayout dataset SOURCES... -n N --out DIR [--seed S]
         [--workers W | --scheduler ADDRESS] [--pictures png|svg|none]
-        [--export glb,usd,mjcf,habitat] [--overwrite]
+        [--export glb,usd,mjcf,habitat] [--assets DIR] [--overwrite]
 
 SOURCES are plan files, folders of plan files, bundled plan names, or
 scene descriptions (with the ``llm`` extra; planned once, and reused when
 the run is resumed). See :mod:`forcelayout.dataset` for the folder it
-writes. Ctrl-C keeps every finished layout and says how to resume.
+writes. ``--assets DIR`` grounds every plan to an asset library first
+(:mod:`forcelayout.grounding`), so sizes and footprints are the meshes'.
+Ctrl-C keeps every finished layout and says how to resume.
 """
 
 from __future__ import annotations
@@ -53,6 +55,9 @@ def add_dataset_parser(sub: Any, count: Any) -> argparse.ArgumentParser:
                         "(needs forcelayout[export])")
     d.add_argument("--movable", default="", metavar="CATEGORIES",
                    help="comma-separated categories exported as movable bodies")
+    d.add_argument("--assets", type=Path, default=None, metavar="DIR",
+                   help="ground every plan to this asset library first (needs "
+                        "forcelayout[grounding]; see `forcelayout ground --help`)")
     d.add_argument("--max-attempts", type=count(0), default=None,
                    help="sample budget per plan (default max(4 N, N + 20))")
     d.add_argument("--overwrite", action="store_true",
@@ -124,6 +129,11 @@ def run_dataset(args: argparse.Namespace) -> int:
     exports = [f.strip() for f in args.export.split(",") if f.strip()]
     movable = [c.strip() for c in args.movable.split(",") if c.strip()]
     sources, prompts = _plans(args)
+    if args.assets is not None:
+        from forcelayout.dataset import plan_sources
+        from forcelayout.grounding.cli import ground_for_command
+
+        sources = [r.plan for r in ground_for_command(plan_sources(sources), args)]
     with ExitStack() as stack:
         stack.enter_context(feasibility_warnings_as_lines())
         executor = _executor(args, stack)

@@ -8,6 +8,10 @@ rejected samples failed. The files of an earlier ``generate`` run in the same
 folder are removed first. Ctrl-C keeps the layouts written so far. For large
 runs that must survive interruptions, ``forcelayout dataset`` resumes.
 
+With ``--assets DIR`` the plan is grounded to that asset library first
+(:mod:`forcelayout.grounding`): ``plan.json`` is the grounded plan, each
+object sized as its scaled mesh.
+
 A plan that looks infeasible before sampling gets one ``warning:`` line on
 stderr before the samples run; a run with fewer layouts than asked for ends
 with one ``hint:`` line on stderr (the dominant cause and what to try) and
@@ -62,6 +66,10 @@ def _remove_earlier_run(out: Path) -> None:
 def run_generate(args: argparse.Namespace) -> int:
     """Run the ``generate`` sub-command; returns the exit status."""
     plan = _plan_from_args(args)
+    if getattr(args, "assets", None) is not None:
+        from forcelayout.grounding.cli import ground_for_command
+
+        plan = ground_for_command([plan], args)[0].plan
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
     _remove_earlier_run(out)

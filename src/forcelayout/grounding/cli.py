@@ -66,11 +66,13 @@ def _fallback_note(embedder: Any, asked: str) -> str | None:
 
 
 def ground_for_command(plans: Sequence[Plan], args: argparse.Namespace, *,
-                       stream: TextIO = sys.stderr) -> list[GroundingReport]:
+                       stream: TextIO | None = None) -> list[GroundingReport]:
     """Ground ``plans`` to ``args.assets`` for ``generate`` / ``dataset``; one line per plan.
 
     The embedder is built once and the library's index is loaded once for all plans.
+    Lines go to ``stream`` (default: standard error).
     """
+    stream = sys.stderr if stream is None else stream
     embedder = embedder_from_args(args)
     note = _fallback_note(embedder, getattr(args, "embedder", "auto") or "auto")
     if note:

@@ -424,12 +424,32 @@ def test_generate_and_dataset_take_assets(library_dir, tmp_path, capsys):
 # -- the extras ----------------------------------------------------------------------------------
 
 
+def test_command_constants_match_the_library():
+    from forcelayout import ground_cmd, grounding
+    from forcelayout.grounding import ground, retrieval
+
+    assert ground_cmd.EMBEDDERS == grounding.EMBEDDERS
+    assert ground_cmd.SCALE_BY == grounding.SCALE_BY
+    assert ground_cmd.DEFAULT_MIN_SCORE == ground.DEFAULT_MIN_SCORE
+    assert ground_cmd.DEFAULT_SIZE_WEIGHT == retrieval.DEFAULT_SIZE_WEIGHT
+
+
 def test_missing_extra_names_it(monkeypatch):
     for name in [m for m in sys.modules if m.startswith("forcelayout.grounding")]:
         monkeypatch.delitem(sys.modules, name)
     monkeypatch.setitem(sys.modules, "trimesh", None)
     with pytest.raises(MissingExtraError, match=r'forcelayout\[grounding\]'):
         importlib.import_module("forcelayout.grounding")
+
+
+def test_ground_command_without_the_extra_says_which(monkeypatch, tmp_path, capsys):
+    for name in [m for m in sys.modules if m.startswith("forcelayout.grounding")]:
+        monkeypatch.delitem(sys.modules, name)
+    monkeypatch.setitem(sys.modules, "trimesh", None)
+    assert main(["ground", "bedroom", "--assets", str(tmp_path), "--out",
+                 str(tmp_path / "g.json")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and 'pip install "forcelayout[grounding]"' in err[0]
 
 
 def test_minilm_needs_the_grounding_extra(monkeypatch):

@@ -3,7 +3,7 @@
 Sub-commands: ``generate``, ``dataset``, ``rules``, ``validate``, ``render``;
 optional subpackages add their own (``plan`` from ``forcelayout.llm``,
 ``export`` from :mod:`forcelayout.export_cmd`, ``ground`` from
-``forcelayout.grounding``) through a
+:mod:`forcelayout.ground_cmd`) through a
 ``register(subparsers)`` function in their command module. A missing extra
 turns into a command that says which extra to install.
 """
@@ -22,7 +22,7 @@ __all__ = ["main", "build_parser"]
 #: Optional subpackages that add sub-commands: (module, extra, commands it adds).
 OPTIONAL_COMMANDS = [("forcelayout.llm.cli", "llm", ["plan"]),
                      ("forcelayout.export_cmd", "export", ["export"]),
-                     ("forcelayout.grounding.cli", "grounding", ["ground"])]
+                     ("forcelayout.ground_cmd", "grounding", ["ground"])]
 
 
 def _cmd_generate(args: argparse.Namespace) -> int:

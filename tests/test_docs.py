@@ -72,7 +72,8 @@ PUBLIC_MODULES = (
     "forcelayout.dataset",
 )
 #: Optional subpackages: checked only when their extra is installed.
-OPTIONAL_MODULES = (("forcelayout.export", "trimesh"), ("forcelayout.llm", "openai"))
+OPTIONAL_MODULES = (("forcelayout.export", "trimesh"), ("forcelayout.llm", "openai"),
+                    ("forcelayout.grounding", "trimesh"))
 
 
 def python_blocks(page: Path) -> list[tuple[int, str]]:

@@ -211,3 +211,29 @@ def test_exports_are_written_in_the_workers_and_resume_to_the_same_bytes(tmp_pat
     assert digest(tmp_path / "b") == digest(tmp_path / "a")
     with pytest.raises(DatasetError, match="unknown export format.*'obj'"):
         build_dataset("home_office", 2, tmp_path / "c", exports=["obj"])
+
+
+def test_ctrl_c_on_the_command_line_keeps_what_is_finished_and_says_how_to_resume(tmp_path):
+    import os
+    import signal
+    import time
+
+    out = tmp_path / "data"
+    cmd = [sys.executable, "-m", "forcelayout.cli", "dataset", "bedroom", "-n", "12", "--out",
+           str(out), "--workers", "2", "--pictures", "none", "--quiet"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)  # Ctrl-C reaches the whole group
+    index = out / "index.jsonl"
+    deadline = time.monotonic() + 120
+    while (not index.exists() or not index.read_text()) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    if proc.returncode == 0:
+        pytest.skip("the run finished before the interrupt arrived")
+    assert proc.returncode == 130
+    assert "Traceback" not in err and err.strip().count("\n") == 0
+    assert "run the same command again to resume" in err
+    finished = len(index.read_text().splitlines())
+    rerun = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert rerun.returncode == 0 and f"{finished} of them from an earlier run" in rerun.stdout

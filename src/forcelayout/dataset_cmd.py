@@ -17,7 +17,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from concurrent.futures import Executor, ProcessPoolExecutor
+from concurrent.futures import Executor
 from contextlib import ExitStack
 from pathlib import Path
 from typing import Any
@@ -27,6 +27,7 @@ from forcelayout.dataset import MANIFEST, DatasetError, build_dataset
 from forcelayout.diagnose import feasibility_warnings_as_lines
 from forcelayout.options import Options
 from forcelayout.plan import Plan
+from forcelayout.sampling import process_pool
 
 __all__ = ["add_dataset_parser", "run_dataset"]
 
@@ -115,7 +116,7 @@ def _executor(args: argparse.Namespace, stack: ExitStack) -> Executor | None:
                 from None
         return client.get_executor()
     if args.workers > 1:
-        return stack.enter_context(ProcessPoolExecutor(args.workers))
+        return stack.enter_context(process_pool(args.workers))
     return None
 
 

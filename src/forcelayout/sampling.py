@@ -14,10 +14,11 @@ from __future__ import annotations
 import collections
 import itertools
 import math
+import signal
 import time
 import warnings
 from collections.abc import Callable, Iterator
-from concurrent.futures import Executor
+from concurrent.futures import Executor, ProcessPoolExecutor
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -46,6 +47,7 @@ __all__ = [
     "generate",
     "iter_samples",
     "executor_workers",
+    "process_pool",
     "plan_feasibility",
     "sample_seed",
 ]
@@ -365,6 +367,26 @@ def executor_workers(executor: Executor | None) -> int:
         except Exception:  # a client that cannot say: a modest guess
             return 4
     return 4
+
+
+def _leave_interrupts_to_the_parent() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
+    """A process pool whose workers leave Ctrl-C to the parent process.
+
+    Ctrl-C in a terminal interrupts every process of the foreground group;
+    the workers of this pool ignore it, so only the parent stops (and can
+    keep what is finished and say so) instead of each worker printing a
+    traceback.
+
+    Parameters
+    ----------
+    max_workers : int, optional
+        Processes (default: one per core).
+    """
+    return ProcessPoolExecutor(max_workers, initializer=_leave_interrupts_to_the_parent)
 
 
 def iter_samples(

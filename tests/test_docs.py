@@ -73,7 +73,8 @@ PUBLIC_MODULES = (
     "forcelayout.validate.loop",
 )
 #: Optional subpackages: checked only when their extra is installed.
-OPTIONAL_MODULES = (("forcelayout.export", "trimesh"), ("forcelayout.llm", "openai"))
+OPTIONAL_MODULES = (("forcelayout.export", "trimesh"), ("forcelayout.llm", "openai"),
+                    ("forcelayout.validate.vlm", "openai"))
 
 
 def python_blocks(page: Path) -> list[tuple[int, str]]:

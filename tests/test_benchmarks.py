@@ -123,3 +123,16 @@ def test_dataset_resume_quick() -> None:
     data, _ = run("dataset_resume.py", "--plans", "bedroom", "-n", "3", "--workers", "1",
                   "--pictures", "none", "--kills", "1")
     assert data["identical"] and data["runs"] >= 1
+
+
+def test_vlm_loop_quick(tmp_path: Path) -> None:
+    plan = tmp_path / "tiny.json"
+    plan.write_text(json.dumps(TINY_PLAN))
+    result, _ = run("vlm_loop.py", "--plans", str(plan), "-n", "2", "--accept", "0.5")
+    assert result["benchmark"] == "vlm_loop" and result["config"]["judge"] == "scripted"
+    (row,) = result["plans"]
+    assert row["plan"] == "tiny" and row["accepted"] <= 2
+    assert row["judged"] + row["unjudged"] <= row["valid"] <= row["attempted"]
+    if row["accepted"]:
+        assert row["seconds_per_accepted"] == pytest.approx(row["seconds"] / row["accepted"],
+                                                            abs=2e-3)

@@ -167,3 +167,29 @@ def test_an_unreachable_server_is_a_request_error(layout):
                      max_retries=0, timeout=2.0)
     with pytest.raises(LLMRequestError, match="could not reach"):
         judge(layout)
+
+
+def test_forcelayout_dataset_judge_vlm_records_and_replays(tmp_path, capsys):
+    import hashlib
+
+    from forcelayout.cli import main
+
+    def digest(folder):
+        return {str(p.relative_to(folder)): hashlib.sha256(p.read_bytes()).hexdigest()
+                for p in sorted(folder.rglob("*")) if p.is_file() and p.name != "run.log"}
+
+    rec = tmp_path / "judge.jsonl"
+    common = ["dataset", "bedroom", "-n", "2", "--seed", "0", "--pictures", "none", "--quiet",
+              "--judge", "vlm"]
+    with FakeChatServer([NO, YES, YES]) as srv:
+        assert main([*common, "--out", str(tmp_path / "live"), "--base-url", srv.url,
+                     "--model", "fake-vl", "--judge-record", str(rec)]) == 0
+        assert len(srv.requests) == 3 and len(srv.images(0)) == 2
+    assert "2/2 layouts" in capsys.readouterr().out
+    summary = json.loads((tmp_path / "live" / "bedroom" / "summary.json").read_text())
+    assert summary["judge"] == "vlm:fake-vl" and summary["failure_reasons"]["implausible"] == 1
+    assert main([*common, "--out", str(tmp_path / "again"), "--judge-replay", str(rec)]) == 0
+    assert digest(tmp_path / "again") == digest(tmp_path / "live")
+    assert main([*common, "--out", str(tmp_path / "x"), "--judge-replay",
+                 str(tmp_path / "missing.jsonl")]) == 2
+    assert "--judge vlm:" in capsys.readouterr().err

@@ -262,7 +262,7 @@ class Agreement:
             text += (f"; among the {self.annotators} annotators: Fleiss' kappa "
                      f"{self.fleiss_kappa:.2f}")
         if self.unjudged:
-            text += f" ({self.unjudged} unjudged items left out)"
+            text += f" ({self.unjudged} unjudged left out)"
         return text
 
 

@@ -8,12 +8,14 @@ import importlib
 import sys
 
 import forcelayout
+import forcelayout.validate  # the V loop is core; its VLM judge is not
 
 plan = forcelayout.examples.load_example("bedroom")
 for heavy in ("openai", "trimesh", "pxr", "mujoco", "torch"):
     if heavy in sys.modules:
         raise SystemExit(f"import forcelayout imported the optional package {heavy!r}")
-for module, extra in (("forcelayout.llm", "llm"), ("forcelayout.export", "export")):
+for module, extra in (("forcelayout.llm", "llm"), ("forcelayout.export", "export"),
+                      ("forcelayout.validate.vlm", "vlm")):
     try:
         importlib.import_module(module)
     except ImportError as e:

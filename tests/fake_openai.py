@@ -10,7 +10,14 @@ Scripted reply items:
 
 * ``str`` — the assistant message content;
 * ``{"content": str, "delay": s}`` — reply after ``delay`` seconds;
-* ``{"status": int, "message": str}`` — an HTTP error with an OpenAI-style body.
+* ``{"status": int, "message": str}`` — an HTTP error with an OpenAI-style body;
+* ``{"refusal": str}`` — a refusal as OpenAI sends one: ``content`` null,
+  the text in ``refusal``.
+
+Messages may carry images as OpenAI's vision API does (``content`` a list of
+``{"type": "text", "text": ...}`` and ``{"type": "image_url", "image_url":
+{"url": "data:image/png;base64,..."}}`` parts); a malformed part gets HTTP
+400 like a real server, and :meth:`FakeChatServer.images` decodes them.
 
 Run as a script to rewrite the example recording from scripted replies::
 
@@ -19,6 +26,8 @@ Run as a script to rewrite the example recording from scripted replies::
 
 from __future__ import annotations
 
+import base64
+import binascii
 import json
 import threading
 from collections.abc import Sequence
@@ -82,10 +91,24 @@ class FakeChatServer:
         """The last message of every request received, in order."""
         return [r["messages"][-1]["content"] for r in self.requests]
 
+    def images(self, k: int = -1) -> list[bytes]:
+        """The images of request ``k`` (default the last), decoded, in message order."""
+        out = []
+        for m in self.requests[k]["messages"]:
+            if isinstance(m.get("content"), list):
+                for part in m["content"]:
+                    if part.get("type") == "image_url":
+                        url = part["image_url"]["url"]
+                        out.append(base64.b64decode(url.partition("base64,")[2]))
+        return out
+
     def _next(self, body: dict[str, Any]) -> Any:
         with self._lock:
             if len(self.requests) >= MAX_REQUESTS:
                 return {"status": 503, "message": "request cap of the fake server reached"}
+            bad = _bad_content(body)
+            if bad:
+                return {"status": 400, "message": bad}
             fmt = (body.get("response_format") or {}).get("type")
             if fmt == "json_schema" and not self.json_schema:
                 return {"status": 400, "message": "response_format json_schema not supported"}
@@ -135,14 +158,43 @@ class FakeChatServer:
                 delay = min(float(item.get("delay", 0.0)), MAX_DELAY)
                 if delay and server._stop.wait(delay):
                     return
+                message = {"role": "assistant", "content": item.get("content")}
+                if "refusal" in item:
+                    message["refusal"] = item["refusal"]
                 self._send(200, {
                     "id": f"chatcmpl-fake-{len(server.requests)}", "object": "chat.completion",
                     "created": 0, "model": body.get("model", "fake"),
                     "choices": [{"index": 0, "finish_reason": "stop", "logprobs": None,
-                                 "message": {"role": "assistant", "content": item["content"]}}],
+                                 "message": message}],
                     "usage": {"prompt_tokens": 0, "completion_tokens": 0, "total_tokens": 0}})
 
         return Handler
+
+
+def _bad_content(body: dict[str, Any]) -> str | None:
+    """What is wrong with the request's message contents (text or vision parts), or None."""
+    for i, m in enumerate(body.get("messages") or []):
+        content = m.get("content")
+        if isinstance(content, str) or content is None:
+            continue
+        if not isinstance(content, list):
+            return f"messages[{i}].content must be a string or a list of parts"
+        for j, part in enumerate(content):
+            kind = part.get("type") if isinstance(part, dict) else None
+            if kind == "text" and isinstance(part.get("text"), str):
+                continue
+            if kind == "image_url":
+                url = (part.get("image_url") or {}).get("url", "")
+                head, _, data = url.partition(";base64,")
+                if head.startswith("data:image/") and data:
+                    try:
+                        base64.b64decode(data, validate=True)
+                        continue
+                    except (binascii.Error, ValueError):
+                        pass
+                return f"messages[{i}].content[{j}]: image_url needs a base64 data URL"
+            return f"messages[{i}].content[{j}]: unknown content part {kind!r}"
+    return None
 
 
 # -- scripted replies of a small bedroom -------------------------------------------------

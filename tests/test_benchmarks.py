@@ -125,6 +125,19 @@ def test_dataset_resume_quick() -> None:
     assert data["identical"] and data["runs"] >= 1
 
 
+def test_vlm_loop_quick(tmp_path: Path) -> None:
+    plan = tmp_path / "tiny.json"
+    plan.write_text(json.dumps(TINY_PLAN))
+    result, _ = run("vlm_loop.py", "--plans", str(plan), "-n", "2", "--accept", "0.5")
+    assert result["benchmark"] == "vlm_loop" and result["config"]["judge"] == "scripted"
+    (row,) = result["plans"]
+    assert row["plan"] == "tiny" and row["accepted"] <= 2
+    assert row["judged"] + row["unjudged"] <= row["valid"] <= row["attempted"]
+    if row["accepted"]:
+        assert row["seconds_per_accepted"] == pytest.approx(row["seconds"] / row["accepted"],
+                                                            abs=2e-3)
+
+
 def test_grounding_quick() -> None:
     pytest.importorskip("trimesh")
     result, _ = run("grounding.py", "--samples", "1", "--plans", "bedroom",

@@ -211,3 +211,124 @@ def test_exports_are_written_in_the_workers_and_resume_to_the_same_bytes(tmp_pat
     assert digest(tmp_path / "b") == digest(tmp_path / "a")
     with pytest.raises(DatasetError, match="unknown export format.*'obj'"):
         build_dataset("home_office", 2, tmp_path / "c", exports=["obj"])
+
+
+def test_ctrl_c_on_the_command_line_keeps_what_is_finished_and_says_how_to_resume(tmp_path):
+    import os
+    import signal
+    import time
+
+    out = tmp_path / "data"
+    cmd = [sys.executable, "-m", "forcelayout.cli", "dataset", "bedroom", "-n", "12", "--out",
+           str(out), "--workers", "2", "--pictures", "none", "--quiet"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)  # Ctrl-C reaches the whole group
+    index = out / "index.jsonl"
+    deadline = time.monotonic() + 120
+    while (not index.exists() or not index.read_text()) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    if proc.returncode == 0:
+        pytest.skip("the run finished before the interrupt arrived")
+    assert proc.returncode == 130
+    assert "Traceback" not in err and err.strip().count("\n") == 0
+    assert "run the same command again to resume" in err
+    finished = len(index.read_text().splitlines())
+    rerun = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert rerun.returncode == 0 and f"{finished} of them from an earlier run" in rerun.stdout
+
+
+# ----------------------------------------------------------------------------- judged datasets
+
+
+def even_seeds(layout: fl.Layout) -> dict:
+    """A deterministic judge: plausible for even seeds."""
+    ok = layout.seed % 2 == 0
+    return {"plausible": ok, "reasons": ["scripted"],
+            "objects": [] if ok else [{"object": "bed", "complaint": "odd seed"}]}
+
+
+JUDGED = dict(seed=2, pictures="none", judge=even_seeds)
+
+
+@pytest.fixture(scope="module")
+def judged(tmp_path_factory) -> Path:
+    """An uninterrupted judged run of one plan, three layouts."""
+    out = tmp_path_factory.mktemp("judged")
+    assert build_dataset("bedroom", 3, out, **JUDGED).complete
+    return out
+
+
+def test_a_judge_decides_which_layouts_are_written(judged):
+    from forcelayout.validate import generate_validated
+
+    entries = [json.loads(line) for line in (judged / "index.jsonl").open()]
+    loop = generate_validated("bedroom", 3, judge=even_seeds, seed=2)
+    assert [e["seed"] for e in entries] == [lay.seed for lay in loop]  # the V loop's choice
+    assert all(e["seed"] % 2 == 0 for e in entries)
+    assert entries[0]["judge"] == {"plausible": True, "reasons": ["scripted"], "objects": []}
+    rejected = sum(e["rejected_before"].get("implausible", 0) for e in entries)
+    summary = json.loads((judged / "bedroom" / "summary.json").read_text())
+    assert summary["failure_reasons"]["implausible"] == rejected == loop.summary()[
+        "rejection_reasons"].get("implausible", 0)
+    assert summary["judge"].endswith("test_dataset:even_seeds")
+    manifest = json.loads((judged / "dataset.json").read_text())
+    assert manifest["judge"] == summary["judge"]
+    written = sorted(p.name for p in (judged / "bedroom").glob("bedroom_*.json"))
+    assert written == ["bedroom_000.json", "bedroom_001.json", "bedroom_002.json"]
+
+
+def test_a_judged_run_resumes_to_the_same_bytes(judged, tmp_path):
+    def stop(done, total):
+        if done == 1:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        build_dataset("bedroom", 3, tmp_path, progress=stop, **JUDGED)
+    assert build_dataset("bedroom", 3, tmp_path, **JUDGED).resumed == 1
+    assert digest(tmp_path) == digest(judged)
+
+
+def test_another_judge_does_not_resume_a_judged_folder(judged):
+    with pytest.raises(DatasetError, match="judge"):
+        build_dataset("bedroom", 3, judged, seed=2, pictures="none", judge=lambda lay: True)
+    with pytest.raises(DatasetError, match="judge"):
+        build_dataset("bedroom", 3, judged, seed=2, pictures="none")
+
+
+def test_unjudged_layouts_are_not_written_and_counted(tmp_path):
+    def flaky(layout: fl.Layout) -> bool:
+        if layout.seed % 3 == 0:
+            raise TimeoutError("no reply")
+        return True
+
+    result = build_dataset("home_office", 2, tmp_path, seed=0, pictures="none", judge=flaky)
+    entries = [json.loads(line) for line in (tmp_path / "index.jsonl").open()]
+    assert [e["seed"] % 3 != 0 for e in entries] == [True] * result.accepted
+    summary = json.loads((tmp_path / "home_office" / "summary.json").read_text())
+    unjudged = summary["failure_reasons"].get("unjudged", 0)
+    assert unjudged == sum(e["rejected_before"].get("unjudged", 0) for e in entries)
+    with pytest.raises(DatasetError, match="callable"):
+        build_dataset("home_office", 1, tmp_path / "x", judge="vlm")
+
+
+def test_the_command_line_takes_a_judge(judged, tmp_path, monkeypatch, capsys):
+    (tmp_path / "my_judge.py").write_text(
+        "def even_seeds(layout):\n"
+        "    ok = layout.seed % 2 == 0\n"
+        "    return {'plausible': ok, 'reasons': ['scripted'],\n"
+        "            'objects': [] if ok else [{'object': 'bed', 'complaint': 'odd seed'}]}\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    out = tmp_path / "cli"
+    args = ["dataset", "bedroom", "-n", "3", "--out", str(out), "--seed", "2", "--pictures",
+            "none", "--quiet", "--judge", "my_judge:even_seeds"]
+    assert main(args) == 0
+    assert "3/3 layouts" in capsys.readouterr().out
+    ours, theirs = digest(out), digest(judged)
+    assert set(ours) == set(theirs)
+    same = [k for k in ours if ours[k] == theirs[k]]  # only the judge's name differs
+    assert set(ours) - set(same) == {"dataset.json", "bedroom/summary.json"}
+    assert main(["dataset", "bedroom", "-n", "1", "--out", str(tmp_path / "bad"),
+                 "--judge", "no_such_module_q:judge"]) == 2
+    assert "--judge: judge 'no_such_module_q:judge': cannot import" in capsys.readouterr().err

@@ -70,9 +70,11 @@ PUBLIC_MODULES = (
     "forcelayout.repair",
     "forcelayout.baselines",
     "forcelayout.dataset",
+    "forcelayout.validate.loop",
 )
 #: Optional subpackages: checked only when their extra is installed.
 OPTIONAL_MODULES = (("forcelayout.export", "trimesh"), ("forcelayout.llm", "openai"),
+                    ("forcelayout.validate.vlm", "openai"),
                     ("forcelayout.grounding", "trimesh"))
 
 

@@ -248,6 +248,16 @@ def test_distinct_layouts_agrees_with_comparing_every_pair(points, tol):
             kept.append(v)
 
 
+def test_distinct_layouts_tests_without_indexing():
+    a, b = fl.solve("bedroom", 0), fl.solve("bedroom", 1)
+    seen = fl.sampling.DistinctLayouts(0.05)
+    assert seen.is_new(a) and seen.is_new(a)  # a test alone indexes nothing
+    seen.add(a)
+    assert not seen.is_new(a) and seen.is_new(b)
+    assert not seen.add_if_new(a) and seen.add_if_new(b) and not seen.is_new(b)
+    assert fl.sampling.DistinctLayouts(0.0).is_new(a)
+
+
 def test_the_same_sample_writes_the_same_bytes(tmp_path):
     a = fl.solve("bedroom", 4).to_json()
     b = fl.solve("bedroom", 4).to_json()

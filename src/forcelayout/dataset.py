@@ -25,6 +25,16 @@ index is rewritten in plan and layout order at the end of every run.
 Pictures and exports are made where the samples run (in the workers of the
 executor); the process that calls :func:`build_dataset` only decides which
 samples are accepted and keeps the index.
+
+With ``judge=`` (any plausibility judge of :mod:`forcelayout.validate.loop`,
+e.g. :class:`forcelayout.validate.vlm.VLMJudge`), the layouts that pass the
+checks and the distinctness test are judged, in the calling process, before
+they are written: a layout the judge rejects or leaves unjudged is not
+written, and counts under ``implausible`` or ``unjudged`` in its plan's
+``failure_reasons``. The index line of a judged layout holds the verdict
+(``"judge"``) and ``dataset.json`` names the judge, so a folder is resumed only
+by the same judge; with a deterministic judge a resumed run ends with the
+same bytes as one that never stopped.
 """
 
 from __future__ import annotations
@@ -55,6 +65,7 @@ from forcelayout.sampling import (
     plan_feasibility,
 )
 from forcelayout.sources import load_plan
+from forcelayout.validate.loop import Judge, judge_layout, judge_name
 
 __all__ = [
     "PICTURE_FORMATS",
@@ -276,10 +287,11 @@ class _Log:
 
 def _manifest(plans: list[Plan], n: int, seed: int, budget: int, pictures: str,
               exports: tuple[str, ...], movable: tuple[str, ...], opts: Options,
-              distinct_tol: float) -> dict[str, Any]:
+              distinct_tol: float, judge: str | None = None) -> dict[str, Any]:
     from forcelayout import __version__
 
-    return {
+    extra = {"judge": judge} if judge is not None else {}  # absent: folders of earlier runs
+    return {**extra,
         "format": FORMAT,
         "forcelayout": __version__,
         "n": n,
@@ -346,6 +358,8 @@ def build_dataset(
     options: Options | None = None,
     prompts: dict[str, str] | None = None,
     progress: bool | Callable[[int, int], Any] = False,
+    judge: Judge | None = None,
+    judge_timeout: float | None = None,
 ) -> DatasetResult:
     """Write ``n`` valid, distinct layouts of every plan to ``out``, resuming a killed run.
 
@@ -386,6 +400,17 @@ def build_dataset(
     progress : bool or callable
         ``True`` shows a progress bar moving per finished layout; a callable
         is called ``progress(finished, total)`` after each one.
+    judge : callable, optional
+        A plausibility judge (``judge(layout)`` -> ``Verdict``, bool or
+        mapping; see :mod:`forcelayout.validate.loop`) asked, in this
+        process, about each layout that passes the checks and the
+        distinctness test, before it is written. Rejected and unjudged
+        layouts are not written; their reasons count in ``summary.json``.
+        :func:`~forcelayout.validate.loop.judge_name` of it is kept in
+        ``dataset.json``.
+    judge_timeout : float, optional
+        Seconds to wait for each verdict (see
+        :func:`~forcelayout.validate.loop.judge_layout`).
 
     Returns
     -------
@@ -411,6 +436,12 @@ def build_dataset(
         raise DatasetError(f"seed must be a whole number >= 0, got {seed!r}")
     if pictures not in PICTURE_FORMATS:
         raise DatasetError(f"pictures must be one of {list(PICTURE_FORMATS)}, got {pictures!r}")
+    if judge is not None and not callable(judge):
+        raise DatasetError(f"judge must be callable (layout -> verdict), got "
+                           f"{type(judge).__name__}")
+    if judge_timeout is not None and not judge_timeout > 0:
+        raise DatasetError(f"judge_timeout must be a positive number of seconds, got "
+                           f"{judge_timeout!r}")
     exports = tuple(dict.fromkeys(exports))
     if exports:
         from forcelayout.export import EXPORT_FORMATS  # ImportError names the extra
@@ -437,7 +468,8 @@ def build_dataset(
         raise DatasetError(f"max_attempts must be >= 0, got {max_attempts}")
     movable = tuple(movable)
     out = Path(out)
-    manifest = _manifest(plans, n, seed, budget, pictures, exports, movable, opts, distinct_tol)
+    manifest = _manifest(plans, n, seed, budget, pictures, exports, movable, opts, distinct_tol,
+                         judge_name(judge) if judge is not None else None)
     for entry in manifest["plans"]:
         if prompts and entry["name"] in prompts:
             entry["prompt"] = prompts[entry["name"]]
@@ -463,7 +495,8 @@ def build_dataset(
     try:
         for plan in plans:
             outcome = _run_plan(plan, n, out, seed, budget, pictures, exports, movable,
-                                opts, distinct_tol, executor, done[plan.name], tell, log)
+                                opts, distinct_tol, executor, done[plan.name], tell, log,
+                                judge, judge_timeout)
             result.plans.append(outcome)
         write_text(out / INDEX, "".join(
             json.dumps(e, sort_keys=True) + "\n"
@@ -499,7 +532,8 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int,
               pictures: str, exports: tuple[str, ...], movable: tuple[str, ...],
               opts: Options, distinct_tol: float, executor: Executor | None,
               done: dict[int, dict[str, Any]], tell: Callable[[], None],
-              log: Callable[..., None]) -> PlanOutcome:
+              log: Callable[..., None], judge: Judge | None = None,
+              judge_timeout: float | None = None) -> PlanOutcome:
     folder = out / plan.name
     folder.mkdir(exist_ok=True)
     outcome = PlanOutcome(plan.name, n)
@@ -523,16 +557,19 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int,
     start = done[k - 1]["sample"] + 1 if k else 0
     reports: list[SampleReport] = []  # this run's samples after the last accepted one
     drawn = 0
-    writing: collections.deque[tuple[int, int, Layout, dict, Future | dict]] = collections.deque()
+    writing: collections.deque[tuple[int, int, Layout, dict, Future | dict, dict | None]] = \
+        collections.deque()
 
     def commit(block: bool) -> None:
-        while writing and (block or not isinstance(writing[0][3], Future)
-                           or writing[0][3].done()):
-            j, sample, lay, rejected, job = writing.popleft()
+        while writing and (block or not isinstance(writing[0][4], Future)
+                           or writing[0][4].done()):
+            j, sample, lay, rejected, job, verdict = writing.popleft()
             written = job.result() if isinstance(job, Future) else job
             entry = {"plan": plan.name, "layout": j, "sample": sample, "seed": lay.seed,
                      "rule_satisfaction": round(lay.rule_satisfaction, 6),
                      "rejected_before": rejected, **written}
+            if verdict is not None:
+                entry["judge"] = verdict
             with (out / INDEX).open("a", encoding="utf-8") as f:
                 f.write(json.dumps(entry, sort_keys=True) + "\n")
                 f.flush()
@@ -546,7 +583,17 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int,
     try:
         for sample, lay in samples:
             drawn += 1
-            if lay.report.valid and seen.add_if_new(lay):
+            if lay.report.valid and seen.is_new(lay):
+                verdict = None
+                if judge is not None:
+                    judged = judge_layout(judge, lay, timeout=judge_timeout)
+                    if not judged.accepted:
+                        lay.report.failures.append(f"{judged.status}: {judged.reason}")
+                        reports.append(lay.report)
+                        continue
+                    verdict = judged.verdict.model_dump(mode="json") \
+                        if judged.verdict is not None else None
+                seen.add(lay)
                 stem = layout_stem(plan.name, k, n)
                 if executor is None:
                     job: Future | dict = _write_layout(lay, str(folder), stem, pictures, exports,
@@ -554,7 +601,7 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int,
                 else:
                     job = executor.submit(_write_layout, lay, str(folder), stem, pictures,
                                           exports, movable)
-                writing.append((k, sample, lay, _reasons(reports), job))
+                writing.append((k, sample, lay, _reasons(reports), job, verdict))
                 reports = []
                 k += 1
                 commit(block=False)
@@ -568,7 +615,7 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int,
         commit(block=True)
     finally:
         samples.close()
-        for *_, job in writing:
+        for *_, job, _verdict in writing:
             if isinstance(job, Future):
                 job.cancel()
     outcome.accepted = k
@@ -579,10 +626,13 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int,
             reasons[key] = reasons.get(key, 0) + count
     if k < n:  # the samples after the last accepted layout, all drawn in this run
         outcome.why = dominant_cause(reports) or "the sample budget ran out"
-    write_text(summary_path, _json({
+    summary = {
         "plan": plan.name, "wanted": n, "accepted": k, "attempted": outcome.attempted,
         "why": outcome.why, "failure_reasons": dict(sorted(reasons.items())),
-    }))
+    }
+    if judge is not None:
+        summary["judge"] = judge_name(judge)
+    write_text(summary_path, _json(summary))
     log("plan", plan=plan.name, accepted=k, wanted=n, attempted=outcome.attempted,
         resumed=outcome.resumed, seconds=round(time.perf_counter() - t0, 3), why=outcome.why)
     return outcome

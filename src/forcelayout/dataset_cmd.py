@@ -5,6 +5,7 @@
     forcelayout dataset SOURCES... -n N --out DIR [--seed S]
         [--workers W | --scheduler ADDRESS] [--pictures png|svg|none]
         [--export glb,usd,mjcf,habitat] [--assets DIR] [--overwrite]
+        [--judge vlm | --judge MODULE:CALLABLE] [--judge-timeout S]
 
 SOURCES are plan files, folders of plan files, bundled plan names, or
 scene descriptions (with the ``llm`` extra; planned once, and reused when
@@ -12,6 +13,12 @@ the run is resumed). See :mod:`forcelayout.dataset` for the folder it
 writes. ``--assets DIR`` grounds every plan to an asset library first
 (:mod:`forcelayout.grounding`), so sizes and footprints are the meshes'.
 Ctrl-C keeps every finished layout and says how to resume.
+
+``--judge`` sends each layout that passes the checks to a plausibility
+judge before it is written (the paper's V stage): ``vlm`` is
+:class:`forcelayout.validate.vlm.VLMJudge` (needs ``forcelayout[vlm]``) on the
+server of ``--base-url`` / ``--model`` (or ``--judge-replay FILE``), and
+``MODULE:CALLABLE`` any judge of your own (see :mod:`forcelayout.validate.loop`).
 """
 
 from __future__ import annotations
@@ -19,7 +26,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from concurrent.futures import Executor, ProcessPoolExecutor
+from concurrent.futures import Executor
 from contextlib import ExitStack
 from pathlib import Path
 from typing import Any
@@ -29,6 +36,7 @@ from forcelayout.dataset import MANIFEST, DatasetError, build_dataset
 from forcelayout.diagnose import feasibility_warnings_as_lines
 from forcelayout.options import Options
 from forcelayout.plan import Plan
+from forcelayout.sampling import process_pool
 
 __all__ = ["add_dataset_parser", "run_dataset"]
 
@@ -63,6 +71,18 @@ def add_dataset_parser(sub: Any, count: Any) -> argparse.ArgumentParser:
     d.add_argument("--overwrite", action="store_true",
                    help="empty --out first if it holds another run's files")
     d.add_argument("--quiet", action="store_true", help="no progress bar")
+    d.add_argument("--judge", default=None, metavar="JUDGE",
+                   help="judge each layout before it is written: 'vlm' (a vision-language "
+                        "model on --base-url/--model; needs forcelayout[vlm]) or "
+                        "MODULE:CALLABLE (your own judge)")
+    d.add_argument("--judge-timeout", type=float, default=None, metavar="S",
+                   help="seconds to wait for each verdict; a late one leaves the layout "
+                        "unjudged (default: none; the VLM judge's requests time out after "
+                        "--llm-timeout)")
+    d.add_argument("--judge-record", type=Path, default=None, metavar="FILE",
+                   help="with --judge vlm: write every request and reply to this JSONL file")
+    d.add_argument("--judge-replay", type=Path, default=None, metavar="FILE",
+                   help="with --judge vlm: answer from a recording instead of a server")
     try:
         from forcelayout.llm.cli import add_client_options
     except ImportError:
@@ -120,14 +140,46 @@ def _executor(args: argparse.Namespace, stack: ExitStack) -> Executor | None:
                 from None
         return client.get_executor()
     if args.workers > 1:
-        return stack.enter_context(ProcessPoolExecutor(args.workers))
+        return stack.enter_context(process_pool(args.workers))
     return None
+
+
+def _judge(args: argparse.Namespace) -> Any:
+    """The judge of ``--judge``, or None; a bad one is a :class:`DatasetError` in one line."""
+    spec = getattr(args, "judge", None)
+    if not spec:
+        if getattr(args, "judge_record", None) or getattr(args, "judge_replay", None):
+            raise DatasetError("--judge-record and --judge-replay need --judge vlm")
+        return None
+    if spec != "vlm":
+        from forcelayout.validate.loop import load_judge
+
+        try:
+            return load_judge(spec)
+        except ValueError as e:
+            raise DatasetError(f"--judge: {e}") from None
+    try:
+        from forcelayout.validate.vlm import LLMRequestError, ReplayError, VLMJudge
+    except ImportError as e:
+        raise DatasetError(f"--judge vlm: {e}") from None
+    kwargs: dict[str, Any] = {"record": args.judge_record, "replay": args.judge_replay}
+    if args.judge_replay is None:
+        kwargs.update(base_url=getattr(args, "base_url", None),
+                      model=getattr(args, "model", None),
+                      timeout=getattr(args, "llm_timeout", None) or 120.0,
+                      temperature=getattr(args, "temperature", None),
+                      seed=getattr(args, "llm_seed", None))
+    try:
+        return VLMJudge(**kwargs)
+    except (LLMRequestError, ReplayError, OSError, ValueError) as e:
+        raise DatasetError(f"--judge vlm: {e}") from None
 
 
 def run_dataset(args: argparse.Namespace) -> int:
     """Run the ``dataset`` sub-command; returns the exit status."""
     exports = [f.strip() for f in args.export.split(",") if f.strip()]
     movable = [c.strip() for c in args.movable.split(",") if c.strip()]
+    judge = _judge(args)
     sources, prompts = _plans(args)
     if args.assets is not None:
         from forcelayout.dataset import plan_sources
@@ -142,7 +194,8 @@ def run_dataset(args: argparse.Namespace) -> int:
                                    pictures=args.pictures, exports=exports, movable=movable,
                                    max_attempts=args.max_attempts, overwrite=args.overwrite,
                                    options=Options(), prompts=prompts,
-                                   progress=not args.quiet)
+                                   progress=not args.quiet, judge=judge,
+                                   judge_timeout=args.judge_timeout)
         except KeyboardInterrupt:
             if executor is not None:
                 executor.shutdown(wait=False, cancel_futures=True)

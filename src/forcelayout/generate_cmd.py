@@ -25,14 +25,14 @@ import glob
 import json
 import sys
 import warnings
-from concurrent.futures import Executor, ProcessPoolExecutor
+from concurrent.futures import Executor
 from pathlib import Path
 
 from forcelayout.dataset import layout_stem
 from forcelayout.diagnose import FewLayoutsWarning, feasibility_warnings_as_lines
 from forcelayout.layout import Layout
 from forcelayout.plan import Plan
-from forcelayout.sampling import Options, generate
+from forcelayout.sampling import Options, generate, process_pool
 from forcelayout.sources import load_plan
 
 __all__ = ["run_generate"]
@@ -84,7 +84,7 @@ def run_generate(args: argparse.Namespace) -> int:
         written.append(stem)
 
     opts = Options(relations=not args.no_relations, decor=not args.no_decor)
-    executor: Executor | None = ProcessPoolExecutor(args.workers) if args.workers > 1 else None
+    executor: Executor | None = process_pool(args.workers) if args.workers > 1 else None
     try:
         with feasibility_warnings_as_lines():
             warnings.simplefilter("ignore", FewLayoutsWarning)  # said below as a hint

@@ -14,10 +14,11 @@ from __future__ import annotations
 import collections
 import itertools
 import math
+import signal
 import time
 import warnings
 from collections.abc import Callable, Iterator
-from concurrent.futures import Executor
+from concurrent.futures import Executor, ProcessPoolExecutor
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -46,6 +47,7 @@ __all__ = [
     "generate",
     "iter_samples",
     "executor_workers",
+    "process_pool",
     "plan_feasibility",
     "sample_seed",
 ]
@@ -329,19 +331,39 @@ class DistinctLayouts:
         self.tol, self.dims = float(tol), int(dims)
         self._cells: dict[tuple, list[np.ndarray]] = {}
 
-    def add_if_new(self, layout: Layout) -> bool:
-        """Index ``layout`` and return True, or return False for a duplicate."""
-        if self.tol <= 0:
-            return True
+    def _key(self, layout: Layout) -> tuple[tuple, np.ndarray, np.ndarray]:
         ids = tuple(layout.ids())
         v = np.array([[layout.poses[i].x, layout.poses[i].y] for i in ids]).ravel()
         k = min(self.dims, v.size)
-        key = np.floor(v[:k] / self.tol).astype(int)
-        for off in itertools.product((-1, 0, 1), repeat=k):
+        return ids, v, np.floor(v[:k] / self.tol).astype(int)
+
+    def is_new(self, layout: Layout) -> bool:
+        """Whether ``layout`` is no duplicate of an indexed one (it is not indexed).
+
+        With :meth:`add`, this lets a caller test a layout, run a further
+        test on it (e.g. a plausibility judge) and index only the ones it keeps.
+        """
+        if self.tol <= 0:
+            return True
+        ids, v, key = self._key(layout)
+        for off in itertools.product((-1, 0, 1), repeat=key.size):
             for w in self._cells.get((ids, *(key + np.array(off, dtype=int)).tolist()), ()):
                 if np.abs(v - w).max() < self.tol:
                     return False
+        return True
+
+    def add(self, layout: Layout) -> None:
+        """Index ``layout`` (whether or not it is a duplicate)."""
+        if self.tol <= 0:
+            return
+        ids, v, key = self._key(layout)
         self._cells.setdefault((ids, *key.tolist()), []).append(v)
+
+    def add_if_new(self, layout: Layout) -> bool:
+        """Index ``layout`` and return True, or return False for a duplicate."""
+        if not self.is_new(layout):
+            return False
+        self.add(layout)
         return True
 
 
@@ -365,6 +387,26 @@ def executor_workers(executor: Executor | None) -> int:
         except Exception:  # a client that cannot say: a modest guess
             return 4
     return 4
+
+
+def _leave_interrupts_to_the_parent() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
+    """A process pool whose workers leave Ctrl-C to the parent process.
+
+    Ctrl-C in a terminal interrupts every process of the foreground group;
+    the workers of this pool ignore it, so only the parent stops (and can
+    keep what is finished and say so) instead of each worker printing a
+    traceback.
+
+    Parameters
+    ----------
+    max_workers : int, optional
+        Processes (default: one per core).
+    """
+    return ProcessPoolExecutor(max_workers, initializer=_leave_interrupts_to_the_parent)
 
 
 def iter_samples(

@@ -21,6 +21,9 @@ One module per concept:
   layouts of different plans).
 * :mod:`~forcelayout.metrics.stats` — :func:`validity_rate`,
   :func:`rule_satisfaction_rate`, :func:`throughput`, :func:`bootstrap_ci`.
+* :mod:`~forcelayout.metrics.agreement` — :func:`judge_agreement`: how a
+  plausibility judge agrees with human labels (Cohen's κ, raw agreement;
+  Fleiss' κ among annotators), as the paper calibrates its VLM judge.
 * :mod:`~forcelayout.metrics.labels` — :func:`canonical_label`: object
   categories are compared after it (``"Couch"`` and ``"sofa_2"`` are the
   same category); pass ``canonical=`` your own callable (e.g. one backed by
@@ -49,6 +52,14 @@ from __future__ import annotations
 
 from typing import Any
 
+from forcelayout.metrics.agreement import (
+    Agreement,
+    cohen_kappa,
+    fleiss_kappa,
+    judge_agreement,
+    majority_vote,
+    raw_agreement,
+)
 from forcelayout.metrics.geometric import geometric_dissimilarity
 from forcelayout.metrics.jaccard import jaccard_distance
 from forcelayout.metrics.labels import SYNONYMS, canonical_label
@@ -86,6 +97,12 @@ __all__ = [
     "throughput",
     "ConfidenceInterval",
     "bootstrap_ci",
+    "raw_agreement",
+    "cohen_kappa",
+    "fleiss_kappa",
+    "majority_vote",
+    "Agreement",
+    "judge_agreement",
 ]
 
 

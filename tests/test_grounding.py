@@ -417,8 +417,12 @@ def test_generate_and_dataset_take_assets(library_dir, tmp_path, capsys):
     assert plan.object("bed").asset == "bed_double"
     assert "objects grounded to" in capsys.readouterr().err
     assert main(["dataset", "bedroom", "-n", "1", "--out", str(tmp_path / "d"), "--quiet",
-                 "--pictures", "none", "--assets", str(library_dir)]) == 0
+                 "--pictures", "none", "--assets", str(library_dir), "--export", "mjcf"]) == 0
     assert fl.Plan.load(tmp_path / "d" / "bedroom" / "plan.json").object("bed").asset
+    # the dataset's exports place the library's meshes, not boxes
+    assert 'mesh="mesh/bed"' in (tmp_path / "d" / "bedroom" / "bedroom_000.xml").read_text()
+    manifest = json.loads((tmp_path / "d" / "dataset.json").read_text())
+    assert len(manifest["assets"]) == 64  # the library's metadata hash
 
 
 # -- the extras ----------------------------------------------------------------------------------

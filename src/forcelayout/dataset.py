@@ -40,6 +40,7 @@ same bytes as one that never stopped.
 from __future__ import annotations
 
 import collections
+import functools
 import hashlib
 import json
 import os
@@ -218,22 +219,44 @@ def _plan_hash(plan: Plan) -> str:
     return hashlib.sha256(plan.to_json().encode("utf-8")).hexdigest()
 
 
-def _write_layout(layout: Layout, folder: str, stem: str, pictures: str,
-                  exports: tuple[str, ...], movable: tuple[str, ...]) -> dict[str, Any]:
+@dataclass(frozen=True)
+class _Files:
+    """What is written for each layout besides its JSON (sent to the workers)."""
+
+    pictures: str = "png"
+    exports: tuple[str, ...] = ()
+    movable: tuple[str, ...] = ()
+    assets: str | None = None  # an asset library folder: exports place its meshes
+
+
+@functools.lru_cache(maxsize=4)
+def _asset_library(folder: str) -> Any:
+    from forcelayout.grounding import AssetLibrary
+
+    return AssetLibrary.load(folder)
+
+
+def _write_layout(layout: Layout, folder: str, stem: str, what: _Files) -> dict[str, Any]:
     """Write one layout's files (runs in a worker); returns its index entry's file part."""
     from forcelayout.validate import check_layout
 
     where = Path(folder)
     files: list[str] = []
-    if pictures != "none":
-        pic = where / f"{stem}.{pictures}"
+    if what.pictures != "none":
+        pic = where / f"{stem}.{what.pictures}"
         with atomic_path(pic) as tmp:
             layout.picture(tmp)
         files.append(pic.name)
-    if exports:
+    if what.exports:
         from forcelayout.export import write_exports
 
-        written = write_exports(layout, where / stem, exports, movable=movable)
+        meshes = None
+        if what.assets is not None:
+            from forcelayout.grounding import scene_assets
+
+            meshes = scene_assets(layout.plan, _asset_library(what.assets))
+        written = write_exports(layout, where / stem, what.exports, movable=what.movable,
+                                assets=meshes)
         files.extend(Path(p).name for p in written)
     main = where / f"{stem}.json"
     write_text(main, layout.to_json())
@@ -357,6 +380,7 @@ def build_dataset(
     overwrite: bool = False,
     options: Options | None = None,
     prompts: dict[str, str] | None = None,
+    assets: str | Path | None = None,
     progress: bool | Callable[[int, int], Any] = False,
     judge: Judge | None = None,
     judge_timeout: float | None = None,
@@ -397,6 +421,10 @@ def build_dataset(
     prompts : dict of str to str, optional
         For plans made from a description: plan name -> the description,
         kept in ``dataset.json`` so a resumed run can reuse the plan.
+    assets : str or Path, optional
+        An asset library folder (``forcelayout.grounding``, extra
+        ``grounding``): the exports place its meshes for the plans' grounded
+        objects (see :func:`forcelayout.grounding.ground_plan`).
     progress : bool or callable
         ``True`` shows a progress bar moving per finished layout; a callable
         is called ``progress(finished, total)`` after each one.
@@ -468,8 +496,14 @@ def build_dataset(
         raise DatasetError(f"max_attempts must be >= 0, got {max_attempts}")
     movable = tuple(movable)
     out = Path(out)
+    what = _Files(pictures, exports, movable, None if assets is None else str(Path(assets)))
     manifest = _manifest(plans, n, seed, budget, pictures, exports, movable, opts, distinct_tol,
                          judge_name(judge) if judge is not None else None)
+    if assets is not None:  # the library's metadata, not its path: the folder may move
+        from forcelayout.grounding import METADATA_FILE
+
+        manifest["assets"] = hashlib.sha256(
+            (Path(assets) / METADATA_FILE).read_bytes()).hexdigest()
     for entry in manifest["plans"]:
         if prompts and entry["name"] in prompts:
             entry["prompt"] = prompts[entry["name"]]
@@ -494,7 +528,7 @@ def build_dataset(
     t0 = time.perf_counter()
     try:
         for plan in plans:
-            outcome = _run_plan(plan, n, out, seed, budget, pictures, exports, movable,
+            outcome = _run_plan(plan, n, out, seed, budget, what,
                                 opts, distinct_tol, executor, done[plan.name], tell, log,
                                 judge, judge_timeout)
             result.plans.append(outcome)
@@ -528,8 +562,7 @@ def _progress(progress: bool | Callable[[int, int], Any], total: int,
     return bar, lambda: bar.update(1)
 
 
-def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int,
-              pictures: str, exports: tuple[str, ...], movable: tuple[str, ...],
+def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int, what: _Files,
               opts: Options, distinct_tol: float, executor: Executor | None,
               done: dict[int, dict[str, Any]], tell: Callable[[], None],
               log: Callable[..., None], judge: Judge | None = None,
@@ -596,11 +629,9 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int,
                 seen.add(lay)
                 stem = layout_stem(plan.name, k, n)
                 if executor is None:
-                    job: Future | dict = _write_layout(lay, str(folder), stem, pictures, exports,
-                                                       movable)
+                    job: Future | dict = _write_layout(lay, str(folder), stem, what)
                 else:
-                    job = executor.submit(_write_layout, lay, str(folder), stem, pictures,
-                                          exports, movable)
+                    job = executor.submit(_write_layout, lay, str(folder), stem, what)
                 writing.append((k, sample, lay, _reasons(reports), job, verdict))
                 reports = []
                 k += 1

@@ -194,7 +194,7 @@ def run_dataset(args: argparse.Namespace) -> int:
                                    pictures=args.pictures, exports=exports, movable=movable,
                                    max_attempts=args.max_attempts, overwrite=args.overwrite,
                                    options=Options(), prompts=prompts,
-                                   progress=not args.quiet, judge=judge,
+                                   progress=not args.quiet, judge=judge, assets=args.assets,
                                    judge_timeout=args.judge_timeout)
         except KeyboardInterrupt:
             if executor is not None:

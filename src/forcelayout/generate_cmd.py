@@ -62,6 +62,11 @@ def _remove_earlier_run(out: Path) -> None:
 def run_generate(args: argparse.Namespace) -> int:
     """Run the ``generate`` sub-command; returns the exit status."""
     plan = _plan_from_args(args)
+    from forcelayout.sanity import plan_findings
+
+    for finding in plan_findings(plan):  # the infeasible ones come with the feasibility warning
+        if finding.severity != "infeasible":
+            print(f"warning: {finding}", file=sys.stderr, flush=True)
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
     _remove_earlier_run(out)

@@ -19,9 +19,10 @@ from forcelayout.cli import main
 from forcelayout.llm import OpenAIChatClient, Planner, PlanningError
 
 PROMPT = "a student's bedroom"
-#: What llama-cpp-python's server answers to response_format json_schema.
-LLAMA_CPP_500 = ("'json_schema' is not a valid response_format type; use 'text' or "
-                 "'json_object' with a 'schema'")
+#: What llama-cpp-python's server (0.2.62) answers to response_format json_schema, HTTP 500.
+LLAMA_CPP_500 = ("1 validation error:\n  {'type': 'literal_error', 'loc': ('body', "
+                 "'response_format', 'type'), 'msg': \"Input should be 'text' or 'json_object'\", "
+                 "'input': 'json_schema', 'ctx': {'expected': \"'text' or 'json_object'\"}}")
 
 
 @pytest.fixture(autouse=True)
@@ -272,3 +273,26 @@ def test_the_self_check_is_given_the_librarys_report():
         Planner(OpenAIChatClient(base_url=srv.url, model="fake", timeout=5)).plan(PROMPT)
         check = srv.requests[-1]["messages"][-1]["content"]
     assert "The layout generator's own check of the plan below found:\n- " in check
+
+
+def test_the_local_benchmark_runs_and_replays_offline(tmp_path):
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).parent.parent / "benchmarks" / "llm_local.py"
+    spec = importlib.util.spec_from_file_location("llm_local", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    from forcelayout.llm import make_client
+
+    rec = tmp_path / "run.jsonl"
+    with FakeChatServer(bedroom_script(), json_schema=(500, LLAMA_CPP_500)) as srv:
+        client = make_client(record=rec, base_url=srv.url, model="fake", timeout=5)
+        live = bench.run(bench.PROMPTS[:1], client, budget_s=60, step_timeout=5,
+                         generate=False)
+    again = bench.run(bench.PROMPTS[:1], make_client(replay=rec), budget_s=60, step_timeout=5,
+                      generate=False)
+    for row in (*live, *again):
+        row.pop("seconds")
+    assert live == again and live[0]["valid"] and live[0]["requests"] == 5
+    assert "1 of 1 valid plans" in bench.table(live)

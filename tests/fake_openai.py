@@ -45,16 +45,31 @@ class FakeChatServer:
     ----------
     replies : sequence
         Scripted replies, one per request, in order (see module docstring).
-    json_schema : bool, default True
-        Whether ``response_format`` of type ``json_schema`` is accepted; if
-        False such requests get HTTP 400 without using a scripted reply (a
-        server without structured output).
+    json_schema, json_object : bool or (int, str), default True
+        Whether ``response_format`` of that type is accepted. False: such
+        requests get HTTP 400 without using a scripted reply (a server without
+        that kind of structured output); ``(status, message)``: that error
+        (e.g. llama-cpp-python's HTTP 500 for ``json_schema``).
+    echo_schema : bool, default False
+        Answer a request without ``response_format`` with the JSON Schema
+        its prompt ends with (what small models do when nothing constrains
+        them), using no scripted reply.
+    context : int, optional
+        The context length in tokens (characters / 4): a longer request gets
+        HTTP 400 "maximum context length is N tokens" without using a reply.
     """
 
-    def __init__(self, replies: Sequence[Any], *, json_schema: bool = True):
+    def __init__(self, replies: Sequence[Any], *, json_schema: Any = True,
+                 json_object: Any = True, echo_schema: bool = False,
+                 context: int | None = None):
         self.replies = list(replies)
         self.json_schema = json_schema
+        self.json_object = json_object
+        self.echo_schema = echo_schema
+        self.context = context
         self.requests: list[dict[str, Any]] = []
+        #: ``response_format`` types refused, in order (requests that used no script item).
+        self.rejected: list[str] = []
         self.headers: list[dict[str, str]] = []
         self._lock = threading.Lock()
         self._stop = threading.Event()
@@ -104,15 +119,32 @@ class FakeChatServer:
 
     def _next(self, body: dict[str, Any]) -> Any:
         with self._lock:
-            if len(self.requests) >= MAX_REQUESTS:
+            if len(self.requests) + len(self.rejected) >= MAX_REQUESTS:
                 return {"status": 503, "message": "request cap of the fake server reached"}
             bad = _bad_content(body)
             if bad:
                 return {"status": 400, "message": bad}
             fmt = (body.get("response_format") or {}).get("type")
-            if fmt == "json_schema" and not self.json_schema:
-                return {"status": 400, "message": "response_format json_schema not supported"}
+            accept = {"json_schema": self.json_schema, "json_object": self.json_object}.get(fmt,
+                                                                                         True)
+            if accept is not True:
+                self.rejected.append(fmt)
+                status, message = accept if isinstance(accept, tuple) else (
+                    400, f"response_format {fmt} not supported")
+                return {"status": status, "message": message}
+            if self.context is not None:
+                tokens = sum(len(m.get("content") or "") for m in body["messages"]) // 4
+                if tokens > self.context:
+                    self.rejected.append(f"context:{fmt}")
+                    return {"status": 400, "message": (
+                        f"This model's maximum context length is {self.context} tokens. However, "
+                        f"you requested {tokens + 512} tokens ({tokens} in the messages, 512 in "
+                        "the completion). Please reduce the length of the messages.")}
             self.requests.append(body)
+            if self.echo_schema and fmt is None:
+                text = body["messages"][-1]["content"]
+                if "schema:\n" in text:
+                    return text.rsplit("schema:\n", 1)[1]
             if not self.replies:
                 return {"status": 500, "message": "the fake server's script is exhausted"}
             return self.replies.pop(0)
@@ -253,9 +285,9 @@ def bedroom_script(*, decor: bool = True, check: bool = True) -> list[str]:
 
 
 def with_unknown_rule() -> str:
-    """The objects step naming a rule that is not in the vocabulary ('beside')."""
+    """The objects step naming a rule that is not in the vocabulary ('hovers_over')."""
     bad = json.loads(json.dumps(OBJECTS))
-    bad["rules"][1]["rule"] = "beside"
+    bad["rules"][1]["rule"] = "hovers_over"
     return json.dumps(bad)
 
 

@@ -50,6 +50,8 @@ PUBLIC_MODULES = (
     "forcelayout.hierarchy",
     "forcelayout.surfaces",
     "forcelayout.validate",
+    "forcelayout.sanity",
+    "forcelayout.autofix",
     "forcelayout.diagnose",
     "forcelayout.render",
     "forcelayout.views",

@@ -123,7 +123,7 @@ def test_unknown_rule_is_fed_back_with_its_path(server):
     planner = Planner(client_for(server))
     planner.plan(PROMPT)
     feedback = server.requests[2]["messages"][-1]["content"]
-    assert "rules[1] (beside)" in feedback and "unknown rule 'beside'" in feedback
+    assert "rules[1] (hovers_over)" in feedback and "unknown rule 'hovers_over'" in feedback
 
 
 def _objects_with_huge_wardrobe() -> str:
@@ -171,7 +171,7 @@ def test_scene_graph_problems_are_fed_back(server):
 @script(bedroom_script()[:1] + [{"delay": 3.0, "content": "{}"}]
                     + bedroom_script()[1:])
 def test_slow_reply_times_out_and_is_retried(server):
-    planner = Planner(client_for(server, timeout=0.5))
+    planner = Planner(client_for(server, timeout=0.5), step_timeout=10)
     plan = planner.plan(PROMPT)
     assert "desk" in plan.ids
     (failure,) = planner.failed_attempts
@@ -217,10 +217,10 @@ def test_api_key_never_shows(server, tmp_path, caplog):
 
 
 def test_server_without_structured_output_gets_json_in_text():
-    with FakeChatServer(bedroom_script(), json_schema=False) as srv:
+    with FakeChatServer(bedroom_script(), json_schema=False, json_object=False) as srv:
         client = client_for(srv)
         plan = Planner(client).plan(PROMPT)
-        assert "bed" in plan.ids and client.structured == "none"
+        assert "bed" in plan.ids and client.mode == "none"
         assert all("response_format" not in r for r in srv.requests)
         # the schema is still in the prompt text
         assert '"RuleDraft"' in srv.requests[1]["messages"][-1]["content"]

@@ -189,7 +189,7 @@ def test_client_options_parse_into_what_plan_for_generate_reads(tmp_path):
                               "--llm-seed", "3", "--record", str(tmp_path / "r.jsonl")])
     assert client_options(args) == {
         "record": tmp_path / "r.jsonl", "replay": None, "base_url": "http://127.0.0.1:9/v1",
-        "model": "m", "timeout": 7.0, "temperature": 0.5, "seed": 3}
+        "model": "m", "timeout": 7.0, "temperature": 0.5, "seed": 3, "structured": "auto"}
     args = parser.parse_args(["--prompt", "a bedroom", "--replay", str(RECORDING)])
     assert plan_for_generate(args).name == "student_bedroom"
 

@@ -69,8 +69,14 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
     plan = load_plan(args.plan)
     if not args.layouts:
-        print(f"plan {plan.name!r} is valid: {len(plan.objects)} objects, {len(plan.rules)} rules")
-        return 0
+        from forcelayout.diagnose import feasibility
+
+        feas = feasibility(plan)
+        print(f"plan {plan.name!r} is valid: {len(plan.objects)} objects, {len(plan.rules)} rules"
+              + ("" if feas.ok else "; but no layout can meet it"))
+        for note in feas.notes:
+            print(f"{'warning' if feas.ok else 'infeasible'}: {note}", file=sys.stderr)
+        return 0 if feas.ok else 1
     bad = 0
     for path in args.layouts:
         try:

@@ -37,6 +37,7 @@ import shapely
 from shapely import affinity
 
 from forcelayout.plan import MAX_FLOOR_FILL, Plan
+from forcelayout.sanity import Finding, plan_findings
 from forcelayout.sources import load_plan
 
 __all__ = ["Feasibility", "feasibility", "dominant_cause", "WALL_PLACES", "FeasibilityWarning",
@@ -144,6 +145,13 @@ class Feasibility:
         Wall length without the doors and the windows, m.
     agent_radius : float
         Agent radius the estimates use, m.
+    findings : list of Finding
+        What :func:`forcelayout.sanity.plan_findings` finds: impossible rule
+        sets (more ``in_corner`` objects than corners, contradictory
+        relations) make the verdict ``"infeasible"``; implausible ones
+        (duplicated rules, a 0.5 m wide bed, a window listed as an object, a
+        70 m² bedroom) are listed in ``notes`` after the others and leave the
+        verdict as it is.
     """
 
     plan: str
@@ -165,6 +173,7 @@ class Feasibility:
     tall_demand: float = 0.0
     tall_available: float = 0.0
     agent_radius: float = 0.2
+    findings: list[Finding] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
@@ -342,9 +351,13 @@ def feasibility(
             tight.append(f"{largest.id!r} ({long_side:g} m long) spans "
                          f"{long_side / span[0]:.0%} of the room's short side "
                          f"({span[0]:.2f} m); it can only lie along the long walls")
+    findings = plan_findings(plan)
+    bad += [str(f) for f in findings if f.severity == "infeasible"]
+    odd = [str(f) for f in findings if f.severity != "infeasible"]
     verdict: Verdict = "infeasible" if bad else "tight" if tight else "ok"
     return Feasibility(
-        plan=plan.name, verdict=verdict, notes=bad + tight, floor_area=area,
+        plan=plan.name, verdict=verdict, notes=bad + tight + odd, findings=findings,
+        floor_area=area,
         footprint_area=footprint, fill=fill, free_fraction=free, free_fraction_best=free_best,
         min_free_fraction=min_free_fraction, room_span=span,
         largest=largest.id if largest is not None else None,

@@ -70,6 +70,11 @@ def run_generate(args: argparse.Namespace) -> int:
         from forcelayout.ground_cmd import ground_for_command
 
         plan = ground_for_command([plan], args)[0].plan
+    from forcelayout.sanity import plan_findings
+
+    for finding in plan_findings(plan):  # the infeasible ones come with the feasibility warning
+        if finding.severity != "infeasible":
+            print(f"warning: {finding}", file=sys.stderr, flush=True)
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
     _remove_earlier_run(out)

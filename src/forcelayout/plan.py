@@ -413,7 +413,9 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
                 yield Problem(f"{path}.offset", f"the opening [{o.offset - o.width / 2:.2f}, "
                               f"{o.offset + o.width / 2:.2f}] m leaves wall {o.wall} "
                               f"(0..{length:.2f} m); offset is the centre's distance from "
-                              f"polygon[{o.wall}]")
+                              f"polygon[{o.wall}] and must lie in [{o.width / 2:.2f}, "
+                              f"{length - o.width / 2:.2f}] m for a {o.width:g} m "
+                              f"{kind[:-1]} on this wall")
             if kind == "windows" and o.sill + o.height > room.height + 1e-9:  # type: ignore[union-attr]
                 yield Problem(f"{path}.height", "the window reaches above the ceiling")
     # objects that cannot fit

@@ -18,6 +18,7 @@ from __future__ import annotations
 import json
 import logging
 import os
+import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, Literal, Protocol, runtime_checkable
@@ -36,6 +37,8 @@ __all__ = [
     "ReplayClient",
     "DEFAULT_MODEL",
     "RECORDING_VERSION",
+    "STRUCTURED_MODES",
+    "estimate_tokens",
 ]
 
 log = logging.getLogger("forcelayout.llm")
@@ -48,6 +51,65 @@ DEFAULT_MODEL = "gpt-4o-2024-08-06"
 #: Version tag written on every line of a recording.
 RECORDING_VERSION = 1
 _MAX_ERROR_CHARS = 300
+
+
+#: The structured-output modes, most specific first.
+STRUCTURED_MODES = ("auto", "json_schema", "json_object", "none")
+Structured = Literal["auto", "json_schema", "json_object", "none"]
+_NEXT_MODE = {"json_schema": "json_object", "json_object": "none"}
+_MODE_TEXT = {"json_object": "response_format json_object with the schema",
+              "none": "no response_format (JSON asked for in the prompt)"}
+_CONTEXT = re.compile(
+    r"context (length|window|size)|maximum context|n_ctx|exceeds? (the )?(available )?context"
+    r"|too many tokens|prompt is too long|max_model_len|input is too long", re.IGNORECASE)
+_FORMAT_WORDS = re.compile(r"response_format|json_schema|json_object|schema|grammar|"
+                           r"format|structured", re.IGNORECASE)
+#: Characters per token assumed when a server does not say how long a request was.
+CHARS_PER_TOKEN = 4
+
+
+def _format(mode: str, name: str, schema: dict[str, Any]) -> dict[str, Any]:
+    if mode == "json_schema":
+        return {"type": "json_schema",
+                "json_schema": {"name": name, "schema": schema, "strict": False}}
+    return {"type": "json_object", "schema": schema}
+
+
+def _rejects_format(e: LLMRequestError) -> bool:
+    """Whether a failed structured request means "this format is not supported here"."""
+    if getattr(e, "kind", None) == "context":
+        return False
+    status = getattr(e, "status", None)
+    if status in (400, 415, 422):
+        return True
+    if status in (500, 501):
+        return bool(_FORMAT_WORDS.search(getattr(e, "detail", "") or str(e)))
+    return False
+
+
+def _short(text: str, limit: int = 160) -> str:
+    flat = " ".join(text.split())
+    return flat if len(flat) <= limit else flat[:limit - 3] + "..."
+
+
+def estimate_tokens(messages: Sequence[Message]) -> int:
+    """A rough token count of chat messages (characters / 4, plus a few per message)."""
+    return sum(len(str(m.get("content", ""))) // CHARS_PER_TOKEN + 4 for m in messages)
+
+
+def _context_message(where: str, detail: str, kwargs: dict[str, Any]) -> str:
+    ctx = re.search(r"(?:context (?:length|window|size)(?: is| of)?|n_ctx[ =:]*|max_model_len"
+                    r"[ =:]*)\D{0,20}?(\d{3,7})", detail, re.IGNORECASE)
+    asked = re.search(r"(?:requested|you requested|request has|prompt has|n_prompt_tokens"
+                      r"\W*)\D{0,20}?(\d{3,7})", detail, re.IGNORECASE)
+    need = estimate_tokens(kwargs["messages"]) + int(kwargs.get("max_tokens") or 2048)
+    have = f"its context of {ctx.group(1)} tokens" if ctx else "its context"
+    size = f"{asked.group(1)} tokens" if asked else f"about {need} tokens"
+    return (f"the request does not fit the context of {where}: it needs {size} (prompt and "
+            f"reply), more than {have}. Start the server with a context of at least 8192 "
+            "tokens, 16384 to be safe: llama-cpp-python --n_ctx 16384, llama-server -c 16384, "
+            "Ollama OLLAMA_CONTEXT_LENGTH=16384 (or num_ctx), vLLM --max-model-len 16384, "
+            f"LM Studio's context length setting (server said: {_short(detail)})")
 
 
 class LLMRequestError(RuntimeError):
@@ -77,7 +139,8 @@ class ChatClient(Protocol):
     ``schema`` is the JSON Schema the reply must follow and ``name`` names
     it (and the planning step); a client may use them for structured output
     or ignore them (the planner parses and validates every reply anyway).
-    Transport failures raise :class:`LLMRequestError`.
+    A client whose ``complete`` also takes ``timeout=`` is given what is left
+    of the step's time budget. Transport failures raise :class:`LLMRequestError`.
     """
 
     def complete(
@@ -114,17 +177,25 @@ class OpenAIChatClient:
         Seconds to wait for one reply.
     max_retries : int, default 2
         Retries the SDK itself makes on connection errors, 429 and 5xx, with
-        back-off (the planner retries failed steps on top of this).
+        back-off, when :meth:`complete` is called without ``timeout``. The
+        planner passes a ``timeout`` (what is left of its step's budget) and
+        then the SDK makes no retries of its own: the planner's attempts are
+        the retries, each listed in its errors.
     temperature : float, optional
         Sampling temperature; the server's default when None.
     seed : int, optional
         Sampling seed, for servers that honour it.
-    structured : {"auto", "json_schema", "none"}, default "auto"
+    structured : {"auto", "json_schema", "json_object", "none"}, default "auto"
         How to ask for JSON: ``"json_schema"`` sends the schema as
-        ``response_format`` (structured output); ``"none"`` relies on the
-        prompt (the reply's JSON is cut out of the text); ``"auto"`` tries
-        structured output and falls back to ``"none"`` for the rest of the
-        session if the server rejects it.
+        ``response_format`` of type ``json_schema`` (OpenAI, vLLM, Ollama, LM
+        Studio, llama.cpp's ``llama-server``); ``"json_object"`` sends type
+        ``json_object`` with the schema beside it (llama-cpp-python and
+        llama.cpp turn it into a grammar); ``"none"`` relies on the prompt
+        (the reply's JSON is cut out of the text). ``"auto"`` negotiates:
+        json_schema, then json_object, then none, moving down on any
+        rejection (HTTP 400 or 422, or a 5xx whose message is about the
+        format or the schema) — logged once per server at WARNING — and
+        keeping what worked for the rest of the session.
     max_tokens : int, optional
         Cap on the reply's length in tokens.
     """
@@ -133,11 +204,12 @@ class OpenAIChatClient:
         self, *, base_url: str | None = None, model: str | None = None,
         api_key: str | None = None, timeout: float = 60.0, max_retries: int = 2,
         temperature: float | None = None, seed: int | None = None,
-        structured: Literal["auto", "json_schema", "none"] = "auto",
+        structured: Structured = "auto",
         max_tokens: int | None = None,
     ):
-        if structured not in ("auto", "json_schema", "none"):
-            raise ValueError(f"structured={structured!r}; use 'auto', 'json_schema' or 'none'")
+        if structured not in STRUCTURED_MODES:
+            raise ValueError(f"structured={structured!r}; use one of "
+                             f"{', '.join(repr(m) for m in STRUCTURED_MODES)}")
         if timeout <= 0:
             raise ValueError(f"timeout={timeout!r} s; give a positive number of seconds")
         self.base_url = base_url or os.environ.get("OPENAI_BASE_URL") or None
@@ -156,6 +228,10 @@ class OpenAIChatClient:
         self.seed = seed
         self.max_tokens = max_tokens
         self.structured = structured
+        #: Structured-output mode in use: the one given, or in ``"auto"`` the
+        #: one negotiated so far.
+        self.mode: str = "json_schema" if structured == "auto" else structured
+        self.max_retries = int(max_retries)
         self._sdk = openai.OpenAI(base_url=self.base_url, api_key=key, timeout=self.timeout,
                                   max_retries=int(max_retries))
 
@@ -165,14 +241,23 @@ class OpenAIChatClient:
 
     def complete(
         self, messages: Sequence[Message], *, schema: dict[str, Any] | None = None,
-        name: str = "reply",
+        name: str = "reply", timeout: float | None = None,
     ) -> str:
         """Send ``messages`` to the server; return the reply text.
+
+        Parameters
+        ----------
+        timeout : float, optional
+            Seconds this call may take at most (the rest of the caller's
+            budget); the SDK then makes no retries of its own. Default: the
+            client's ``timeout`` per request, with the SDK's ``max_retries``.
 
         Raises
         ------
         LLMRequestError
-            On timeout, lost connection, or an HTTP error status.
+            On timeout, lost connection, or an HTTP error status; a request
+            larger than the server's context raises one with
+            ``kind == "context"`` and the size needed.
         """
         kwargs: dict[str, Any] = {"model": self.model,
                                   "messages": [dict(m) for m in messages]}
@@ -182,34 +267,47 @@ class OpenAIChatClient:
             kwargs["seed"] = self.seed
         if self.max_tokens is not None:
             kwargs["max_tokens"] = self.max_tokens
-        if schema is not None and self.structured in ("auto", "json_schema"):
-            fmt = {"type": "json_schema",
-                   "json_schema": {"name": name, "schema": schema, "strict": False}}
+        sdk = self._sdk
+        if timeout is not None:
+            sdk = self._sdk.with_options(timeout=max(0.1, min(float(timeout), self.timeout)),
+                                         max_retries=0)
+        while schema is not None and self.mode != "none":
             try:
-                return self._send({**kwargs, "response_format": fmt})
+                return self._send(sdk, {**kwargs, "response_format": _format(self.mode, name,
+                                                                           schema)})
             except LLMRequestError as e:
-                if self.structured != "auto" or getattr(e, "status", None) not in (400, 422):
+                if self.structured != "auto" or not _rejects_format(e):
                     raise
-                log.info("server rejected structured output (%s); asking for JSON in text", e)
-                self.structured = "none"
-        return self._send(kwargs)
+                lower = _NEXT_MODE[self.mode]
+                log.warning("the server at %s rejected response_format %r (%s); asking with %s "
+                            "for the rest of the session (set structured= / --structured to "
+                            "skip this)", self.base_url or "api.openai.com", self.mode,
+                            _short(str(e)), _MODE_TEXT[lower])
+                self.mode = lower
+        return self._send(sdk, kwargs)
 
-    def _send(self, kwargs: dict[str, Any]) -> str:
+    def _send(self, sdk: Any, kwargs: dict[str, Any]) -> str:
         try:
-            resp = self._sdk.chat.completions.create(**kwargs)
+            resp = sdk.chat.completions.create(**kwargs)
         except openai.APITimeoutError:
-            raise LLMRequestError(f"no reply within {self.timeout:g} s from "
-                                  f"{self._where()}; raise timeout= or use a faster model"
-                                  ) from None
+            raise LLMRequestError(f"no reply within {float(sdk.timeout):.3g} s from "
+                                  f"{self._where()}; raise --llm-timeout (timeout= in Python) "
+                                  "or use a faster model") from None
         except openai.APIConnectionError as e:
             raise LLMRequestError(f"could not reach {self._where()}: "
                                   f"{_redact(str(e), self.__key)}") from None
         except openai.APIStatusError as e:
             status = int(e.status_code)
-            err = LLMRequestError(
-                f"{self._where()} answered HTTP {status}: {_redact(str(e.message), self.__key)}",
-                retryable=status == 429 or status >= 500)
+            text = _redact(str(e.message), self.__key)
+            if _CONTEXT.search(str(e.message)):
+                err = LLMRequestError(_context_message(self._where(), str(e.message), kwargs),
+                                      retryable=False)
+                err.kind = "context"  # type: ignore[attr-defined]
+            else:
+                err = LLMRequestError(f"{self._where()} answered HTTP {status}: {text}",
+                                      retryable=status == 429 or status >= 500)
             err.status = status  # type: ignore[attr-defined]
+            err.detail = str(e.message)  # type: ignore[attr-defined]
             raise err from None
         if not resp.choices:
             raise LLMRequestError(f"{self._where()} sent a reply without choices")
@@ -249,14 +347,15 @@ class RecordingClient:
 
     def complete(
         self, messages: Sequence[Message], *, schema: dict[str, Any] | None = None,
-        name: str = "reply",
+        name: str = "reply", timeout: float | None = None,
     ) -> str:
         """Forward to the inner client and append the exchange to the file."""
         entry: dict[str, Any] = {"v": RECORDING_VERSION, "name": name,
                                  "model": getattr(self.inner, "model", None),
                                  "messages": [dict(m) for m in messages]}
         try:
-            reply = self.inner.complete(messages, schema=schema, name=name)
+            reply = call_client(self.inner, messages, schema=schema, name=name,
+                                timeout=timeout)
         except LLMRequestError as e:
             entry["error"] = {"message": str(e), "retryable": e.retryable}
             self._write(entry)
@@ -322,7 +421,7 @@ class ReplayClient:
 
     def complete(
         self, messages: Sequence[Message], *, schema: dict[str, Any] | None = None,
-        name: str = "reply",
+        name: str = "reply", timeout: float | None = None,
     ) -> str:
         """Return the next recorded reply (or raise the recorded error)."""
         k = self._next
@@ -344,3 +443,22 @@ class ReplayClient:
             raise LLMRequestError(str(err.get("message", "recorded failure")),
                                   retryable=bool(err.get("retryable", True)))
         return str(entry["reply"])
+
+
+def call_client(client: ChatClient, messages: Sequence[Message], *,
+                schema: dict[str, Any] | None, name: str, timeout: float | None) -> str:
+    """``client.complete(...)``, passing ``timeout`` only to clients that take it."""
+    if timeout is not None and _takes_timeout(client):
+        return client.complete(messages, schema=schema, name=name,  # type: ignore[call-arg]
+                               timeout=timeout)
+    return client.complete(messages, schema=schema, name=name)
+
+
+def _takes_timeout(client: Any) -> bool:
+    import inspect
+
+    try:
+        params = inspect.signature(client.complete).parameters
+    except (TypeError, ValueError):
+        return False
+    return "timeout" in params or any(p.kind is p.VAR_KEYWORD for p in params.values())

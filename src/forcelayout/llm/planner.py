@@ -25,6 +25,7 @@ import difflib
 import json
 import logging
 import re
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,6 +34,7 @@ from typing import Any, TypeVar
 from pydantic import BaseModel
 
 from forcelayout import rules as registry
+from forcelayout.autofix import autofix
 from forcelayout.errors import PlanError
 from forcelayout.llm.client import (
     ChatClient,
@@ -40,6 +42,8 @@ from forcelayout.llm.client import (
     OpenAIChatClient,
     RecordingClient,
     ReplayClient,
+    call_client,
+    estimate_tokens,
 )
 from forcelayout.llm.prompts import DEFAULT_TEMPLATES, PromptTemplates, render, vocabulary
 from forcelayout.llm.prompts import vocabulary_text as _vocabulary_text
@@ -57,6 +61,7 @@ from forcelayout.llm.steps import (
 )
 from forcelayout.plan import Plan
 from forcelayout.rules import RuleInfo, is_registered
+from forcelayout.sanity import Finding, plan_findings
 
 __all__ = ["Planner", "PlanningError", "Attempt", "plan_from_prompt", "make_client", "STEPS"]
 
@@ -197,6 +202,18 @@ class Planner:
     rules : str, default "*"
         Shell pattern of the rule names offered (registered rules of kind
         unary, binary or surface, including plugins).
+    step_timeout : float, optional
+        Seconds one step may take, all its requests and repairs included
+        (each request gets what is left; the SDK makes no retries of its own).
+        Default: the client's ``timeout`` attribute, else no limit.
+    detail : bool, default False
+        Show each rule's whole docstring in the prompts; by default only its
+        summary, parameters and one example (prompts about half as long).
+    feasibility : bool, default True
+        Feed the library's findings (:func:`forcelayout.sanity.plan_findings`
+        and infeasible verdicts of :func:`forcelayout.diagnose.feasibility`)
+        back to the model like schema errors. A step whose attempts run out
+        with only such findings left keeps its best reply (logged at WARNING).
 
     Examples
     --------
@@ -209,6 +226,7 @@ class Planner:
     def __init__(
         self, client: ChatClient, *, templates: PromptTemplates | None = None,
         decor: bool = True, self_check: bool = True, max_attempts: int = 3, rules: str = "*",
+        step_timeout: float | None = None, feasibility: bool = True, detail: bool = False,
     ):
         if not 1 <= int(max_attempts) <= MAX_ATTEMPTS_CAP:
             raise ValueError(f"max_attempts={max_attempts!r}; give 1 to {MAX_ATTEMPTS_CAP}")
@@ -220,8 +238,23 @@ class Planner:
         self.self_check = bool(self_check)
         self.max_attempts = int(max_attempts)
         self.rules = rules
+        if step_timeout is None:
+            inner = getattr(client, "inner", client)
+            t = getattr(inner, "timeout", None)
+            step_timeout = float(t) if isinstance(t, int | float) else None
+        if step_timeout is not None and not step_timeout > 0:
+            raise ValueError(f"step_timeout={step_timeout!r}; give a positive number of seconds")
+        self.step_timeout = step_timeout
+        self.feasibility = bool(feasibility)
+        self.detail = bool(detail)
         #: Failed attempts of the last :meth:`plan` call (empty if all went first time).
         self.failed_attempts: list[Attempt] = []
+        #: What the last :meth:`plan` call fixed without asking the model, one line each.
+        self.fixes: list[str] = []
+        #: Findings the model left unfixed in the last :meth:`plan` call (the plan has them).
+        self.unresolved: list[str] = []
+        #: Requests sent in the last :meth:`plan` call.
+        self.requests = 0
         self._current: Draft | None = None
 
     def __repr__(self) -> str:
@@ -235,7 +268,7 @@ class Planner:
 
     def vocabulary_text(self) -> str:
         """The vocabulary as it appears in the prompts."""
-        return _vocabulary_text(self.vocabulary())
+        return _vocabulary_text(self.vocabulary(), detail=self.detail)
 
     # -- planning ---------------------------------------------------------------------
     def plan(self, prompt: str) -> Plan:
@@ -262,12 +295,15 @@ class Planner:
             raise ValueError("the scene description is empty; describe the room, e.g. "
                              "\"a student's bedroom\"")
         self.failed_attempts = []
+        self.fixes = []
+        self.unresolved = []
+        self.requests = 0
         self._current: Draft | None = None
         infos = self.vocabulary()
         if not infos:
             raise ValueError(f"no registered rule matches rules={self.rules!r}")
         kinds = {i.name: i.kind for i in infos}
-        values = {"prompt": prompt, "vocabulary": _vocabulary_text(infos)}
+        values = {"prompt": prompt, "vocabulary": _vocabulary_text(infos, detail=self.detail)}
         names = sorted(kinds)
 
         draft = self._run("room", RoomStep, values, None,
@@ -276,19 +312,32 @@ class Planner:
                           lambda r: self._apply_objects(r, draft, kinds))
         unary = [i for i in infos if i.kind == "unary"]
         draft = self._run("scene_graph", SceneGraphStep,
-                          {**values, "vocabulary": _vocabulary_text(unary)},
+                          {**values, "vocabulary": _vocabulary_text(unary, detail=self.detail)},
                           [i.name for i in unary] or names,
                           lambda r: self._apply_graph(r, draft, kinds))
         if self.decor:
             draft = self._run("decor", DecorStep, values, names,
                               lambda r: self._apply_decor(r, draft, kinds))
         if self.self_check:
-            draft = self._run("self_check", SelfCheckStep, values, names,
+            draft = self._run("self_check", SelfCheckStep,
+                              {**values, "report": self._report(draft)}, names,
                               lambda r: self._apply_check(r, draft, kinds))
         plan = Plan.from_dict(draft)
-        log.info("planned %r: %d objects, %d rules, %d failed attempts", plan.name,
-                 len(plan.objects), len(plan.rules), len(self.failed_attempts))
+        log.info("planned %r: %d objects, %d rules; %d requests, %d repairs, %d fixes without "
+                 "asking", plan.name, len(plan.objects), len(plan.rules), self.requests,
+                 len(self.failed_attempts), len(self.fixes))
         return plan
+
+    def _report(self, draft: Draft) -> str:
+        """The library's findings about a draft, as text for the self-check prompt."""
+        try:
+            plan = Plan.from_dict(draft)
+        except PlanError as e:  # cannot happen after the steps; said plainly if it does
+            return "\n".join(f"- {p}" for p in e.problems)
+        from forcelayout.diagnose import feasibility
+
+        notes = feasibility(plan).notes
+        return "\n".join(f"- {n}" for n in notes) if notes else "- no problems found"
 
     def _run(self, step: str, model: type[M], values: dict[str, Any],
              rule_names: list[str] | None, apply: Callable[[M], Draft]) -> Draft:
@@ -297,35 +346,135 @@ class Planner:
         text = render(self.templates, {"room": "room", "objects": "objects",
                                        "scene_graph": "graph", "decor": "decor",
                                        "self_check": "check"}[step],
-                      **values, schema=json.dumps(schema, separators=(",", ":")),
+                      **{"report": "", **values},
+                      schema=json.dumps(schema, separators=(",", ":")),
                       plan=json.dumps(current, separators=(",", ":")) if current else "{}")
         base = [{"role": "system", "content": render(self.templates, "system", **values)},
                 {"role": "user", "content": text}]
         messages = base
+        t0 = time.monotonic()
+        budget = self.step_timeout
+        seen: dict[str, int] = {}
+        best: tuple[int, Draft, list[str], list[str]] | None = None
+        note = ""
         for number in range(1, self.max_attempts + 1):
+            left = None if budget is None else budget - (time.monotonic() - t0)
+            if left is not None and left <= 0.05:
+                note = f" (the step's time budget of {budget:g} s is used up)"
+                break
+            log.info("step %r attempt %d: sending %d messages, about %d tokens", step, number,
+                     len(messages), estimate_tokens(messages))
+            t = time.monotonic()
+            self.requests += 1
             try:
-                reply = self.client.complete(messages, schema=schema, name=step)
+                reply = call_client(self.client, messages, schema=schema, name=step,
+                                    timeout=left)
             except LLMRequestError as e:
-                self._fail(step, number, f"request failed: {e}")
+                self._fail(step, number, f"request failed after {time.monotonic() - t:.1f} s: "
+                           f"{e}")
                 if not e.retryable:
                     raise PlanningError(step, self.failed_attempts,
                                         note=" (the error is not worth retrying)") from e
                 continue
+            log.info("step %r attempt %d: reply of %d characters after %.1f s", step, number,
+                     len(reply), time.monotonic() - t)
+            key = " ".join(reply.split())
+            repeats = seen.get(key, 0)
+            seen[key] = repeats + 1
+            fixes_before = len(self.fixes)
             try:
                 draft = apply(parse_reply(reply, model))
             except (ReplyError, _Problems) as e:
-                self._fail(step, number, "; ".join(e.problems))
-                repair = render(self.templates, "repair", **values,
-                                problems="\n".join(f"- {p}" for p in e.problems))
+                problems = list(e.problems)
+                del self.fixes[fixes_before:]
+            else:
+                problems = self._findings(step, draft) if self.feasibility else []
+                if not problems:
+                    log.info("step %r: done after %d attempt%s in %.1f s", step, number,
+                             "s" if number > 1 else "", time.monotonic() - t0)
+                    self._current = draft
+                    return draft
+                if best is None or len(problems) < len(best[2]):
+                    best = (number, draft, problems, self.fixes[fixes_before:])
+                del self.fixes[fixes_before:]
+            self._fail(step, number, "; ".join(problems))
+            if repeats >= 2:
+                note = " (the model sent the same reply three times)"
+                break
+            repair = render(self.templates, "repair", **values,
+                            problems="\n".join(f"- {p}" for p in problems))
+            if repeats:  # the same reply again: start afresh instead of repeating the exchange
+                log.info("step %r: the model repeated a reply; asking afresh with the problems",
+                         step)
+                messages = [*base[:-1], {"role": "user", "content": text + "\n\n" + repair
+                                         .replace("Your reply could not be used:",
+                                                  "Earlier answers were rejected for:")}]
+            else:
                 messages = [*base, {"role": "assistant", "content": reply},
                             {"role": "user", "content": repair}]
-                continue
+        if best is not None:
+            number, draft, problems, fixes = best
+            log.warning("step %r: kept attempt %d with problems the model did not fix: %s",
+                        step, number, "; ".join(problems))
+            self.unresolved.extend(problems)
+            self.fixes.extend(fixes)
             self._current = draft
             return draft
-        raise PlanningError(step, self.failed_attempts)
+        raise PlanningError(step, self.failed_attempts, note=note)
+
+    def _findings(self, step: str, draft: Draft) -> list[str]:
+        """The library's findings about what this step added, as problems for the model."""
+        if step == "room":
+            draft = {**draft, "objects": [{"id": "probe", "category": "probe",
+                                           "size": [0.01, 0.01, 0.01]}]}
+        try:
+            plan = Plan.from_dict(draft)
+        except PlanError:
+            return []
+        prev = self._current or {}
+        n_obj, n_rules = len(prev.get("objects") or []), len(prev.get("rules") or [])
+
+        def mine(f: Finding) -> bool:
+            refs = f.refs or (f.path,)
+            if step == "room":
+                return any(r.startswith("room") for r in refs)
+            if step == "objects":
+                return any(r.startswith(("objects[", "rules[")) for r in refs)
+            if step == "scene_graph":
+                return any(r.startswith("areas[") for r in refs)
+            if step == "decor":
+                for r in refs:
+                    m = re.match(r"(objects|rules)\[(\d+)\]", r)
+                    if m and int(m.group(2)) >= (n_obj if m.group(1) == "objects" else n_rules):
+                        return True
+                return False
+            return True
+
+        out = [str(f) for f in plan_findings(plan) if mine(f) and str(f) not in self.unresolved]
+        if step in ("objects", "self_check"):
+            from forcelayout.diagnose import feasibility
+
+            feas = feasibility(plan)
+            if not feas.ok:
+                found = {str(f) for f in feas.findings}
+                out += [f"objects: {n}" for n in feas.notes if n not in found and n not in out
+                        and f"objects: {n}" not in self.unresolved][:3]
+        return _dedupe(out)
+
+    def _note(self, step: str, text: str) -> None:
+        log.info("step %r: fixed without asking: %s", step, text)
+        self.fixes.append(f"{step}: {text}")
+
+    def _fix(self, step: str, draft: Draft) -> Draft:
+        """Apply :func:`forcelayout.autofix.autofix`; log and keep what it did."""
+        fixed, notes = autofix(draft)
+        for n in notes:
+            log.info("step %r: fixed without asking: %s", step, n)
+        self.fixes.extend(f"{step}: {n}" for n in notes)
+        return fixed
 
     def _fail(self, step: str, number: int, reason: str) -> None:
-        log.info("planning step %r attempt %d failed: %s", step, number, reason)
+        log.info("step %r attempt %d needs a repair: %s", step, number, reason)
         self.failed_attempts.append(Attempt(step, number, reason))
 
     # -- steps --------------------------------------------------------------------------
@@ -341,6 +490,7 @@ class Planner:
                         "areas": [{"name": a.name, "description": a.description}
                                   for a in r.areas],
                         "objects": [], "rules": []}
+        draft = self._fix("room", draft)
         probe = {**draft, "objects": [{"id": "probe", "category": "probe",
                                        "size": [0.01, 0.01, 0.01]}]}
         try:
@@ -369,8 +519,9 @@ class Planner:
 
     def _apply_objects(self, r: ObjectsStep, draft: Draft, kinds: dict[str, str]) -> Draft:
         problems = self._vocab_problems(r.rules, kinds, "rules")
-        new = {**draft, "objects": [_object_dict(o, decor=False) for o in r.objects],
-               "rules": [_rule_dict(x) for x in r.rules]}
+        new = self._fix("objects", {
+            **draft, "objects": [_object_dict(o, decor=False) for o in r.objects],
+            "rules": [_rule_dict(x) for x in r.rules]})
         try:
             _validate(new)
         except _Problems as e:
@@ -392,9 +543,10 @@ class Planner:
                 if oid not in ids:
                     problems.append(f"areas[{i}].objects[{j}]: unknown object {oid!r}."
                                     f"{_did_you_mean(oid, ids)}")
-                elif oid in member and member[oid] != a.name:
-                    problems.append(f"areas[{i}].objects[{j}]: {oid!r} is already in area "
-                                    f"{member[oid]!r}; an object belongs to one area")
+                elif oid in member:
+                    if member[oid] != a.name:
+                        self._note("scene_graph", f"areas[{i}].objects[{j}]: {oid!r} left in "
+                                   f"area {member[oid]!r} only (an object belongs to one area)")
                 else:
                     member[oid] = a.name
             for j, ar in enumerate(a.rules):
@@ -432,16 +584,18 @@ class Planner:
         elif r.support:
             raise _Problems(["support: no rule in the vocabulary rests an object on another's "
                              "top; give no support bonds"])
-        new = {**draft, "areas": areas, "objects": objects, "rules": rules}
+        new = self._fix("scene_graph", {**draft, "areas": areas, "objects": objects,
+                                         "rules": rules})
         _validate(new, {"rules": (n_rules, "support"), "objects": (len(objects), "objects")})
         return new
 
     def _apply_decor(self, r: DecorStep, draft: Draft, kinds: dict[str, str]) -> Draft:
         problems = self._vocab_problems(r.rules, kinds, "rules")
         n_obj, n_rules = len(draft["objects"]), len(draft["rules"])
-        new = {**draft,
-               "objects": draft["objects"] + [_object_dict(o, decor=True) for o in r.objects],
-               "rules": draft["rules"] + [_rule_dict(x) for x in r.rules]}
+        new = self._fix("decor", {
+            **draft,
+            "objects": draft["objects"] + [_object_dict(o, decor=True) for o in r.objects],
+            "rules": draft["rules"] + [_rule_dict(x) for x in r.rules]})
         try:
             _validate(new, {"objects": (n_obj, "objects"), "rules": (n_rules, "rules")})
         except _Problems as e:
@@ -468,6 +622,7 @@ class Planner:
                       for a in p.areas],
             "objects": [_object_dict(o, decor=o.decor) for o in p.objects],
             "rules": [_rule_dict(x) for x in p.rules]}
+        new = self._fix("self_check", new)
         try:
             Plan.from_dict(new)
         except PlanError as e:

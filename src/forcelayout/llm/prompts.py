@@ -12,7 +12,9 @@ Placeholders available to every template: ``$prompt`` (the user's scene
 description), ``$conventions``, ``$vocabulary`` (generated from the rule
 registry, so plugin rules are offered automatically), ``$plan`` (the plan so
 far, JSON), ``$schema`` (the step's JSON Schema) and, in ``expand``,
-``$room_type`` and ``$k``. ``repair`` gets ``$problems``.
+``$room_type`` and ``$k``. ``repair`` gets ``$problems``; ``check`` gets
+``$report``, the library's own findings about the plan
+(:func:`forcelayout.diagnose.feasibility`).
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ from dataclasses import dataclass, fields
 from forcelayout.rules import RuleInfo, available_rules, describe_rules
 
 __all__ = ["PromptTemplates", "DEFAULT_TEMPLATES", "vocabulary", "vocabulary_text", "render",
-           "PLANNING_KINDS"]
+           "PLANNING_KINDS", "RULE_EXAMPLES"]
 
 #: Rule kinds the planner may use.
 PLANNING_KINDS = ("unary", "binary", "surface")
@@ -117,11 +119,13 @@ _CHECK = """\
 Scene description: "$prompt"
 
 Step 5 of 5: check the plan.
-Check the plan below for logical problems: missing furniture the description asks for, \
-unrealistic sizes, rules that contradict each other (e.g. an object both next_to and \
-far_from the same target), relations that make no sense, objects that do not fit the room. \
-If it is fine, answer {"issues": [], "plan": null}. Otherwise list the issues and give the \
-whole corrected plan. Use only these rules:
+The layout generator's own check of the plan below found:
+$report
+
+Check the plan for these problems and for furniture the description asks for but the \
+plan lacks. If the check found no problems and nothing is missing, answer \
+{"issues": [], "plan": null}. Otherwise list the issues and give the whole corrected plan. \
+Use only these rules:
 
 $vocabulary
 
@@ -230,8 +234,60 @@ def _one_line(text: str, limit: int = 400) -> str:
     return flat if len(flat) <= limit else flat[: limit - 3].rstrip() + "..."
 
 
-def vocabulary_text(infos: list[RuleInfo]) -> str:
-    """The vocabulary as prompt text: one line per rule with its kind, doc and params."""
+#: One example binding per built-in rule, shown in the short vocabulary.
+RULE_EXAMPLES = {
+    "at_wall": ("wardrobe",), "in_corner": ("bookshelf",), "in_middle": ("coffee_table",),
+    "near_door": ("coat_rack",), "away_from_door": ("bed",), "near_window": ("desk",),
+    "next_to": ("nightstand_1", "bed"), "near": ("armchair", "bookshelf"),
+    "far_from": ("bed", "desk"), "facing": ("sofa", "tv_stand"),
+    "in_front_of": ("coffee_table", "sofa"), "behind": ("console_table", "sofa"),
+    "left_of": ("nightstand_1", "bed"), "right_of": ("nightstand_2", "bed"),
+    "around": ("chair_1", "dining_table"), "aligned_with": ("rug", "sofa"),
+    "face_same_as": ("bookshelf_2", "bookshelf_1"), "under": ("rug", "coffee_table"),
+    "near_plant": ("armchair", "plant"), "on_top": ("lamp", "nightstand_1"),
+    "on_wall": ("mirror",), "on_wall_mid": ("painting",), "above": ("painting", "bed"),
+    "on_ceiling": ("ceiling_light",),
+}
+
+
+def _example(info: RuleInfo) -> str:
+    ex = RULE_EXAMPLES.get(info.name)
+    if ex is None:
+        ex = ("object_1",) if info.kind == "unary" else ("object_1", "object_2")
+    text = f'{{"rule": "{info.name}", "object": "{ex[0]}"'
+    if len(ex) > 1:
+        text += f', "target": "{ex[1]}"'
+    return text + "}"
+
+
+def vocabulary_text(infos: list[RuleInfo], *, detail: bool = False) -> str:
+    """The vocabulary as prompt text, one line per rule, grouped by kind.
+
+    Parameters
+    ----------
+    infos : list of RuleInfo
+        The rules (see :func:`vocabulary`).
+    detail : bool, default False
+        False: each rule's summary, its parameters with their defaults and
+        one example binding — short enough for small models and 8k contexts.
+        True: the whole docstring and each parameter's description.
+    """
+    if not detail:
+        lines = []
+        for kind in PLANNING_KINDS:
+            group = [i for i in infos if i.kind == kind]
+            if not group:
+                continue
+            head = {"unary": "unary rules (no target):",
+                    "binary": "binary rules (target: another object's id):",
+                    "surface": "surface rules (place the object off the floor):"}[kind]
+            lines.append(head)
+            for i in group:
+                params = ", ".join(f"{k}={v.get('default')!r}" for k, v in i.params.items())
+                lines.append(f"- {i.name}: {_one_line(i.summary, 160)}"
+                             + (f" Params: {params}." if params else "")
+                             + f" Example: {_example(i)}")
+        return "\n".join(lines)
     lines = []
     for kind in PLANNING_KINDS:
         group = [i for i in infos if i.kind == kind]

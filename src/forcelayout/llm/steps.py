@@ -273,6 +273,11 @@ def parse_reply(text: str, model: type[_Draft]) -> Any:
     data = _json_in(text.strip())
     if not isinstance(data, dict):
         raise ReplyError([f"(reply): expected a JSON object, got {type(data).__name__}"])
+    if "$defs" in data or "$schema" in data or (data.get("type") == "object"
+                                                 and isinstance(data.get("properties"), dict)):
+        raise ReplyError(["(reply): this is the JSON Schema itself, not an answer; answer with "
+                          "one JSON object that follows the schema, with the values filled "
+                          f"in (its fields: {', '.join(model.model_fields)})"])
     try:
         return model.model_validate(data)
     except ValidationError as e:

@@ -1,0 +1,292 @@
+"""Deterministic fixes of a plan draft: what needs no judgement is fixed without asking.
+
+:func:`autofix` takes a plan as a dict (before validation) and returns a
+fixed copy and one line per change, so the LLM planner fixes near misses
+itself and asks the model again only about what needs a choice:
+
+* a door or window that leaves its wall is moved (and if needed narrowed)
+  onto it; a window reaching above the ceiling is lowered;
+* a unary rule given a target (``at_wall`` with target ``"room"``) loses it;
+  a binary rule whose target names the door, the window, a wall or a corner
+  becomes the unary rule meant (``near`` ``"window"`` -> ``near_window``);
+* near-miss rule names (``"next to"``, ``"nextTo"``, ``"against_wall"``)
+  and object ids (``"bed"`` for the only bed, ``"desk chair"``) are mapped;
+  categories are written in lower case with underscores;
+* duplicated rules are dropped;
+* doors and windows listed as objects are removed with their rules;
+* more ``in_corner`` objects than the floor has convex corners: the
+  extra ones become ``at_wall``;
+* an object both ``far_from`` and close to one target loses the
+  ``far_from``.
+
+Examples
+--------
+>>> from forcelayout.autofix import autofix
+>>> fixed, notes = autofix({"room": {"polygon": [[0, 0], [2.4, 0], [2.4, 3], [0, 3]],
+...                                   "doors": [{"wall": 0, "offset": 0.05, "width": 0.9}]},
+...                          "objects": [{"id": "bed", "category": "Bed", "size": [1, 2, .5]}],
+...                          "rules": [{"rule": "at wall", "object": "bed", "target": "room"}]})
+>>> fixed["room"]["doors"][0]["offset"], fixed["rules"]
+(0.45, [{'rule': 'at_wall', 'object': 'bed'}])
+>>> print(notes[0].split(" (")[0])
+room.doors[0].offset: moved the door onto wall 0: offset 0.05 -> 0.45 m
+>>> for n in notes[1:]: print(n)
+objects[0].category: 'Bed' -> 'bed'
+rules[0].rule: 'at wall' read as 'at_wall'
+rules[0] (at_wall).target: removed 'room' (at_wall takes no target)
+"""
+
+from __future__ import annotations
+
+import copy
+import difflib
+import math
+import re
+from typing import Any
+
+from forcelayout import rules as registry
+from forcelayout.sanity import OPENING_WORDS, category_key, convex_corners
+
+__all__ = ["autofix", "RULE_ALIASES"]
+
+#: Names small models use for registered rules.
+RULE_ALIASES = {
+    "against_wall": "at_wall", "wall": "at_wall", "by_wall": "at_wall",
+    "near_wall": "at_wall", "corner": "in_corner", "at_corner": "in_corner",
+    "center": "in_middle", "centre": "in_middle", "in_center": "in_middle",
+    "in_centre": "in_middle", "middle": "in_middle", "beside": "next_to", "adjacent": "next_to",
+    "adjacent_to": "next_to", "close_to": "near", "nearby": "near", "faces": "facing",
+    "face": "facing", "facing_towards": "facing", "on": "on_top", "on_top_of": "on_top",
+    "ontop": "on_top", "in_front": "in_front_of", "front_of": "in_front_of",
+    "behind_of": "behind", "left": "left_of", "right": "right_of", "away_from": "far_from",
+    "far": "far_from", "aligned": "aligned_with", "align_with": "aligned_with",
+    "ceiling": "on_ceiling", "hang_on_wall": "on_wall", "by_window": "near_window",
+    "by_door": "near_door", "underneath": "under", "below": "under",
+}
+# a binary rule aimed at a room feature -> the unary rule meant
+_FEATURE_RULES = {
+    "door": {"near": "near_door", "next_to": "near_door", "far_from": "away_from_door"},
+    "window": {"near": "near_window", "next_to": "near_window", "facing": "near_window"},
+    "wall": {"near": "at_wall", "next_to": "at_wall"},
+    "corner": {"near": "in_corner", "next_to": "in_corner"},
+}
+_CLOSE = {"next_to", "near", "around", "in_front_of", "behind", "left_of", "right_of",
+          "under", "on_top", "near_plant"}
+
+
+def _snake(text: str) -> str:
+    s = re.sub(r"([a-z0-9])([A-Z])", r"\1_\2", text.strip())
+    return re.sub(r"[^A-Za-z0-9]+", "_", s).strip("_").lower()
+
+
+def _rule_name(name: str, known: list[str]) -> str | None:
+    """The registered rule a near-miss name means, or None."""
+    s = _snake(name)
+    if s in known:
+        return s
+    if s in RULE_ALIASES and RULE_ALIASES[s] in known:
+        return RULE_ALIASES[s]
+    close = difflib.get_close_matches(s, known, n=1, cutoff=0.8)
+    return close[0] if close else None
+
+
+def _feature(target: str) -> str | None:
+    words = [w for w in re.split(r"[^a-z]+", target.lower()) if w]
+    for w in words:
+        w = w[:-1] if w.endswith("s") else w
+        if w in _FEATURE_RULES or w == "room":
+            return w
+    return None
+
+
+def _num(x: Any) -> float | None:
+    return float(x) if isinstance(x, int | float) and not isinstance(x, bool) \
+        and math.isfinite(x) else None
+
+
+def _fix_openings(room: dict[str, Any], notes: list[str]) -> None:
+    poly = room.get("polygon")
+    try:
+        pts = [(float(p[0]), float(p[1])) for p in poly]  # type: ignore[union-attr]
+    except (TypeError, ValueError, IndexError):
+        return
+    n = len(pts)
+    if n < 3:
+        return
+    height = _num(room.get("height")) or 2.7
+    for kind, noun in (("doors", "door"), ("windows", "window")):
+        for k, o in enumerate(room.get(kind) or []):
+            if not isinstance(o, dict) or not isinstance(o.get("wall"), int) \
+                    or not 0 <= o["wall"] < n:
+                continue
+            i = o["wall"]
+            (ax, ay), (bx, by) = pts[i], pts[(i + 1) % n]
+            length = math.hypot(bx - ax, by - ay)
+            width = _num(o.get("width")) or (0.9 if kind == "doors" else 1.2)
+            offset = _num(o.get("offset"))
+            path = f"room.{kind}[{k}]"
+            if length <= 0.3 or offset is None:
+                continue
+            if width > length - 0.1:
+                new_w = round(max(0.3, length - 0.2), 2)
+                notes.append(f"{path}.width: narrowed the {noun} from {width:g} to {new_w:g} m "
+                             f"to fit wall {i} ({length:.2f} m)")
+                o["width"] = width = new_w
+            lo, hi = width / 2, length - width / 2
+            if not lo - 1e-9 <= offset <= hi + 1e-9:
+                new = round(min(max(offset, lo), hi), 3)
+                notes.append(f"{path}.offset: moved the {noun} onto wall {i}: offset "
+                             f"{offset:g} -> {new:g} m (offset must lie in [{lo:.2f}, "
+                             f"{hi:.2f}] m for a {width:g} m {noun} on a "
+                             f"{round(length, 2):g} m wall)")
+                o["offset"] = new
+            if kind == "windows":
+                sill, h = _num(o.get("sill")), _num(o.get("height"))
+                sill = 0.9 if sill is None else sill
+                h = 1.2 if h is None else h
+                if sill + h > height and h < height:
+                    new_sill = round(max(0.0, height - h - 0.1), 2)
+                    notes.append(f"{path}.sill: lowered the window from {sill:g} to "
+                                 f"{new_sill:g} m so it ends below the {height:g} m ceiling")
+                    o["sill"] = new_sill
+
+
+def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
+    """Fix what needs no judgement in a plan dict; return the fixed copy and one note per fix.
+
+    The input is not changed and need not be valid: fields of the wrong type
+    are left for validation to report. See the module docstring for the list
+    of fixes. Rule names are mapped only onto registered rules.
+
+    Parameters
+    ----------
+    data : dict
+        A plan as JSON data (``room``, ``objects``, ``rules``, ``areas``).
+
+    Returns
+    -------
+    (dict, list of str)
+        The fixed plan and, for each change, ``"<path>: <what was done>"``.
+    """
+    out = copy.deepcopy(data)
+    notes: list[str] = []
+    room = out.get("room")
+    if isinstance(room, dict):
+        _fix_openings(room, notes)
+    objects = [o for o in out.get("objects") or [] if isinstance(o, dict)]
+    rules = out.get("rules")
+    if not isinstance(rules, list):
+        return out, notes
+    # categories; doors and windows listed as objects
+    removed: set[str] = set()
+    kept = []
+    for k, o in enumerate(objects):
+        cat = o.get("category")
+        if isinstance(cat, str):
+            words = [w for w in re.split(r"[^a-z0-9]+", cat.lower()) if w]
+            if words and words[-1] in OPENING_WORDS and category_key(cat) is None:
+                removed.add(str(o.get("id")))
+                notes.append(f"objects[{k}]: removed {o.get('id')!r}, a {cat} listed as an "
+                             "object (doors and windows belong in room.doors / room.windows)")
+                continue
+            snake = _snake(cat)
+            if snake and snake != cat:
+                notes.append(f"objects[{k}].category: {cat!r} -> {snake!r}")
+                o["category"] = snake
+        kept.append(o)
+    if removed and isinstance(out.get("objects"), list):
+        out["objects"] = [o for o in out["objects"]
+                          if not (isinstance(o, dict) and str(o.get("id")) in removed)]
+    ids = [str(o.get("id")) for o in kept if isinstance(o.get("id"), str)]
+    by_cat: dict[str, list[str]] = {}
+    for o in kept:
+        if isinstance(o.get("id"), str) and isinstance(o.get("category"), str):
+            by_cat.setdefault(o["category"], []).append(o["id"])
+    known = registry.available_rules()
+
+    def map_id(value: Any) -> Any:
+        if not isinstance(value, str) or value in ids or not ids:
+            return value
+        if value in by_cat and len(by_cat[value]) == 1:
+            return by_cat[value][0]
+        s = _snake(value)
+        if s in ids:
+            return s
+        numbered = [i for i in ids if re.fullmatch(re.escape(s) + r"_?\d+", i)]
+        if len(numbered) == 1:
+            return numbered[0]
+        close = difflib.get_close_matches(s, ids, n=1, cutoff=0.85)
+        return close[0] if close else value
+
+    new_rules: list[Any] = []
+    seen: set[str] = set()
+    for k, r in enumerate(rules):
+        if not isinstance(r, dict) or not isinstance(r.get("rule"), str):
+            new_rules.append(r)
+            continue
+        name = r["rule"]
+        if not registry.is_registered(name):
+            mapped = _rule_name(name, known)
+            if mapped is not None:
+                notes.append(f"rules[{k}].rule: {name!r} read as {mapped!r}")
+                r["rule"] = name = mapped
+        if r.get("object") in removed or r.get("target") in removed:
+            notes.append(f"rules[{k}] ({name}): removed with the opening it names")
+            continue
+        for field in ("object", "target"):
+            new = map_id(r.get(field))
+            if new != r.get(field):
+                notes.append(f"rules[{k}] ({name}).{field}: {r[field]!r} read as {new!r}")
+                r[field] = new
+        target = r.get("target")
+        if registry.is_registered(name):
+            rule = registry.get_rule(name)
+            if isinstance(target, str) and target not in ids and rule.target != "none":
+                feature = _feature(target)
+                unary = _FEATURE_RULES.get(feature or "", {}).get(name)
+                if unary is not None and registry.is_registered(unary):
+                    notes.append(f"rules[{k}] ({name}): {name} {target!r} read as {unary} "
+                                 "(the target is the room's, not an object)")
+                    r = {**r, "rule": unary}
+                    r.pop("target", None)
+                    r["params"] = {}
+                    name, rule = unary, registry.get_rule(unary)
+            if rule.target == "none" and r.get("target") not in (None, ""):
+                notes.append(f"rules[{k}] ({name}).target: removed {r['target']!r} "
+                             f"({name} takes no target)")
+                r.pop("target")
+        if r.get("target") == "":
+            r.pop("target")
+        key = repr((r.get("rule"), r.get("object"), r.get("target"),
+                    sorted((r.get("params") or {}).items()) if isinstance(r.get("params"), dict)
+                    else r.get("params")))
+        if key in seen:
+            notes.append(f"rules[{k}] ({name}): removed, it repeats an earlier rule")
+            continue
+        seen.add(key)
+        new_rules.append(r)
+    # more corner objects than corners -> the extra ones at a wall
+    if isinstance(room, dict):
+        try:
+            corners = convex_corners(room.get("polygon") or [])
+        except (TypeError, ValueError, IndexError):
+            corners = 4
+        in_corner = [r for r in new_rules if isinstance(r, dict) and r.get("rule") == "in_corner"]
+        for r in in_corner[corners:]:
+            notes.append(f"rules ({r.get('object')}): in_corner -> at_wall (the room has "
+                         f"{corners} convex corners for {len(in_corner)} in_corner objects)")
+            r["rule"] = "at_wall"
+            r["params"] = {}
+    # far_from and close to the same target -> drop the far_from
+    close_pairs = {frozenset((r.get("object"), r.get("target"))) for r in new_rules
+                   if isinstance(r, dict) and r.get("rule") in _CLOSE and r.get("target")}
+    final = []
+    for r in new_rules:
+        if isinstance(r, dict) and r.get("rule") == "far_from" and \
+                frozenset((r.get("object"), r.get("target"))) in close_pairs:
+            notes.append(f"rules ({r.get('object')}): removed far_from {r.get('target')!r}, "
+                         "which contradicts a rule that keeps them close")
+            continue
+        final.append(r)
+    out["rules"] = final
+    return out, notes

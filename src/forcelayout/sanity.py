@@ -1,0 +1,348 @@
+"""Plan findings beyond validity: impossible and implausible plans, each with its field and fix.
+
+A plan can pass :class:`forcelayout.Plan` validation and still be
+impossible (five objects tucked into the corners of a four-corner room, an
+object both ``next_to`` and ``far_from`` the same target) or absurd (a bed
+0.5 m wide, a window listed as furniture, a 14 x 5 m bedroom).
+:func:`plan_findings` finds such plans from the plan alone, in milliseconds;
+:func:`forcelayout.diagnose.feasibility`, ``forcelayout validate`` and
+``forcelayout generate`` report them, and the LLM planner feeds them back to
+the model like schema errors.
+
+Each :class:`Finding` is one line: the JSON path of the field, what is
+wrong, and the fix.
+
+Examples
+--------
+>>> from forcelayout import Plan
+>>> from forcelayout.sanity import plan_findings
+>>> room = {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]]}
+>>> plan = Plan.from_dict({"name": "bedroom", "room": room,
+...     "objects": [{"id": "bed", "category": "bed", "size": [0.5, 2.0, 0.5]}]})
+>>> f = plan_findings(plan)[0]
+>>> f.path, f.severity
+('objects[0].size', 'implausible')
+>>> f.message
+"'bed' (category 'bed') is 0.5 x 2 m; a bed is usually 0.8-2.2 x 1.8-2.4 m (height 0.25-1.4 m)"
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections import defaultdict
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Literal
+
+from forcelayout.plan import Plan
+
+__all__ = ["Finding", "plan_findings", "CATEGORY_SIZES", "ROOM_AREAS", "OPENING_WORDS",
+           "category_key", "convex_corners", "Severity"]
+
+Severity = Literal["infeasible", "implausible"]
+
+#: Usual (short side, long side, height) ranges of a footprint in metres, by category.
+CATEGORY_SIZES: dict[str, tuple[tuple[float, float], tuple[float, float], tuple[float, float]]] = {
+    "bed": ((0.8, 2.2), (1.8, 2.4), (0.25, 1.4)),
+    "bunk_bed": ((0.8, 1.6), (1.8, 2.2), (1.3, 2.0)),
+    "crib": ((0.55, 0.8), (0.95, 1.45), (0.75, 1.15)),
+    "sofa": ((0.7, 1.2), (1.2, 3.5), (0.6, 1.1)),
+    "armchair": ((0.6, 1.0), (0.6, 1.1), (0.6, 1.2)),
+    "chair": ((0.35, 0.75), (0.4, 0.8), (0.65, 1.3)),
+    "stool": ((0.25, 0.5), (0.25, 0.5), (0.4, 0.85)),
+    "bench": ((0.3, 0.6), (0.8, 2.0), (0.4, 0.6)),
+    "desk": ((0.45, 0.9), (0.8, 2.0), (0.65, 0.8)),
+    "table": ((0.5, 1.2), (0.5, 2.6), (0.4, 0.8)),
+    "dining_table": ((0.7, 1.2), (0.75, 2.6), (0.7, 0.8)),
+    "coffee_table": ((0.4, 0.9), (0.45, 1.5), (0.25, 0.55)),
+    "side_table": ((0.3, 0.65), (0.3, 0.7), (0.4, 0.75)),
+    "nightstand": ((0.3, 0.6), (0.3, 0.7), (0.35, 0.8)),
+    "wardrobe": ((0.45, 0.75), (0.6, 3.0), (1.6, 2.6)),
+    "dresser": ((0.35, 0.65), (0.6, 1.9), (0.6, 1.5)),
+    "bookshelf": ((0.2, 0.5), (0.4, 2.2), (0.7, 2.5)),
+    "cabinet": ((0.3, 0.75), (0.35, 2.5), (0.4, 2.4)),
+    "tv_stand": ((0.3, 0.6), (0.8, 2.4), (0.3, 0.75)),
+    "tv": ((0.03, 0.45), (0.6, 2.2), (0.35, 1.3)),
+    "fridge": ((0.5, 0.8), (0.5, 1.0), (0.8, 2.1)),
+    "stove": ((0.5, 0.75), (0.5, 1.0), (0.8, 1.0)),
+    "dishwasher": ((0.45, 0.65), (0.5, 0.7), (0.8, 0.9)),
+    "washing_machine": ((0.5, 0.7), (0.55, 0.7), (0.8, 0.95)),
+    "counter": ((0.5, 0.75), (0.6, 4.5), (0.85, 0.95)),
+    "toilet": ((0.35, 0.5), (0.5, 0.8), (0.65, 0.9)),
+    "bathtub": ((0.65, 0.95), (1.4, 1.9), (0.4, 0.7)),
+    "piano": ((0.5, 1.6), (1.2, 2.8), (0.95, 1.5)),
+}
+_SYNONYMS = {
+    "couch": "sofa", "settee": "sofa", "loveseat": "sofa", "sectional": "sofa",
+    "bedside_table": "nightstand", "night_stand": "nightstand", "night_table": "nightstand",
+    "bedside": "nightstand", "bookcase": "bookshelf", "book_shelf": "bookshelf",
+    "closet": "wardrobe", "armoire": "wardrobe", "chest_of_drawers": "dresser",
+    "drawers": "dresser", "refrigerator": "fridge", "cooker": "stove", "oven": "stove",
+    "range": "stove", "hob": "stove", "television": "tv", "tv_unit": "tv_stand",
+    "tv_cabinet": "tv_stand", "media_console": "tv_stand", "end_table": "side_table",
+    "kitchen_table": "dining_table", "bunkbed": "bunk_bed", "cot": "crib",
+    "bath": "bathtub", "tub": "bathtub", "washer": "washing_machine",
+    "worktop": "counter", "countertop": "counter", "kitchen_counter": "counter",
+}
+#: Category words that name a door or a window (they belong in ``room.doors`` / ``room.windows``).
+OPENING_WORDS = frozenset({"door", "doors", "doorway", "window", "windows", "skylight",
+                           "entrance", "opening"})
+#: Usual floor area (m²) by room type, and the words that name it.
+ROOM_AREAS: dict[str, tuple[tuple[str, ...], tuple[float, float]]] = {
+    "bathroom": (("bathroom", "bath", "toilet", "wc", "washroom"), (2.0, 16.0)),
+    "kids room": (("kid", "kids", "child", "children", "nursery", "playroom"), (6.0, 30.0)),
+    "bedroom": (("bedroom", "bed", "dorm", "guest"), (6.0, 35.0)),
+    "kitchen": (("kitchen", "kitchenette"), (4.0, 35.0)),
+    "dining room": (("dining",), (7.0, 40.0)),
+    "office": (("office", "study", "workroom"), (4.0, 30.0)),
+    "living room": (("living", "lounge", "family", "sitting"), (9.0, 60.0)),
+    "studio": (("studio", "apartment", "loft"), (14.0, 70.0)),
+}
+_SIZE_SLACK = 1.5      # a size is "far" from its range beyond this factor
+_AREA_SLACK = 1.3
+_MAX_ASPECT = 2.5      # longer side / shorter side of an ordinary room
+_MAX_TARGETS = 2       # distinct targets of one positional relation per object
+_POSITIONAL = ("aligned_with", "around", "behind", "in_front_of", "left_of", "right_of",
+               "under", "facing")
+_CLOSE = ("next_to", "near", "around", "in_front_of", "behind", "left_of", "right_of",
+          "under", "on_top", "near_plant")
+_OPPOSITE = {("in_front_of", "behind"), ("left_of", "right_of"), ("at_wall", "in_middle"),
+             ("in_corner", "in_middle"), ("near_door", "away_from_door")}
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One thing wrong with a plan that validation lets through.
+
+    Attributes
+    ----------
+    path : str
+        JSON path of the field, e.g. ``"objects[2].size"`` or ``"rules[4] (in_corner)"``.
+    message : str
+        What is wrong, in one sentence.
+    fix : str
+        What to change.
+    severity : {"infeasible", "implausible"}
+        ``"infeasible"``: no layout can meet the plan; ``"implausible"``:
+        layouts exist but the plan is likely not what was meant.
+    refs : tuple of str
+        Every path the finding involves (for a finding about several rules).
+    """
+
+    path: str
+    message: str
+    fix: str
+    severity: Severity = "implausible"
+    refs: tuple[str, ...] = ()
+
+    def __str__(self) -> str:
+        return f"{self.path}: {self.message}; {self.fix}"
+
+
+def _tokens(text: str) -> list[str]:
+    return [t for t in re.split(r"[^a-z0-9]+", text.lower()) if t and not t.isdigit()]
+
+
+def category_key(category: str) -> str | None:
+    """The :data:`CATEGORY_SIZES` key a category (or an id) names, or None.
+
+    Tries the whole name, its last two words and its last word, each also
+    through a table of synonyms (``"bedside table"`` -> ``"nightstand"``).
+    """
+    words = _tokens(category)
+    if not words:
+        return None
+    candidates = ["_".join(words), "".join(words)]
+    if len(words) >= 2:
+        candidates.append("_".join(words[-2:]))
+    candidates.append(words[-1])
+    if words[-1].endswith("s"):
+        candidates.append(words[-1][:-1])
+    for c in candidates:
+        c = _SYNONYMS.get(c, c)
+        if c in CATEGORY_SIZES:
+            return c
+    return None
+
+
+def convex_corners(polygon: Iterable[tuple[float, float]] | Iterable[list[float]]) -> int:
+    """Number of convex corners of a simple floor polygon (collinear vertices do not count)."""
+    pts = [tuple(map(float, p)) for p in polygon]
+    n = len(pts)
+    if n < 3:
+        return 0
+    area2 = sum(pts[i][0] * pts[(i + 1) % n][1] - pts[(i + 1) % n][0] * pts[i][1]
+                for i in range(n))
+    sign = 1.0 if area2 > 0 else -1.0
+    count = 0
+    for i in range(n):
+        (ax, ay), (bx, by), (cx, cy) = pts[i - 1], pts[i], pts[(i + 1) % n]
+        cross = (bx - ax) * (cy - by) - (by - ay) * (cx - bx)
+        if sign * cross > 1e-9 * max(1.0, math.hypot(bx - ax, by - ay)):
+            count += 1
+    return count
+
+
+def _fmt(x: float) -> str:
+    return f"{x:g}"
+
+
+def _rng(r: tuple[float, float]) -> str:
+    return f"{_fmt(r[0])}-{_fmt(r[1])}"
+
+
+def _size_findings(plan: Plan) -> Iterable[Finding]:
+    for k, o in enumerate(plan.objects):
+        words = _tokens(o.category)
+        if words and words[-1] in OPENING_WORDS:
+            yield Finding(f"objects[{k}].category",
+                          f"{o.id!r} is a {o.category} listed as an object",
+                          "remove it and declare it in room.doors or room.windows",
+                          refs=(f"objects[{k}]",))
+            continue
+        key = category_key(o.category)
+        if key is None:
+            continue
+        (s_lo, s_hi), (l_lo, l_hi), (h_lo, h_hi) = CATEGORY_SIZES[key]
+        short, long_ = sorted(o.size[:2])
+        h = o.size[2]
+        far = (short < s_lo / _SIZE_SLACK or short > s_hi * _SIZE_SLACK
+               or long_ < l_lo / _SIZE_SLACK or long_ > l_hi * _SIZE_SLACK
+               or h < h_lo / _SIZE_SLACK or h > h_hi * _SIZE_SLACK)
+        if far:
+            what = key.replace("_", " ")
+            yield Finding(f"objects[{k}].size",
+                          f"{o.id!r} (category {o.category!r}) is {_fmt(o.size[0])} x "
+                          f"{_fmt(o.size[1])} m; a {what} is usually {_rng((s_lo, s_hi))} x "
+                          f"{_rng((l_lo, l_hi))} m (height {_rng((h_lo, h_hi))} m)",
+                          "fix the size or the category", refs=(f"objects[{k}]",))
+
+
+def _room_findings(plan: Plan) -> Iterable[Finding]:
+    floor = plan.room.shape
+    rect = floor.minimum_rotated_rectangle
+    xs, ys = rect.exterior.xy
+    sides = sorted({math.hypot(xs[1] - xs[0], ys[1] - ys[0]),
+                    math.hypot(xs[2] - xs[1], ys[2] - ys[1])})
+    short, long_ = sides[0], sides[-1]
+    kind = None
+    for text in (plan.name, plan.description):
+        kind = next((name for name, (keys, _) in ROOM_AREAS.items()
+                     if set(_tokens(text)) & set(keys)), None)
+        if kind is not None:
+            break
+    words = set(_tokens(plan.name)) | set(_tokens(plan.description))
+    area = float(floor.area)
+    if kind is not None:
+        lo, hi = ROOM_AREAS[kind][1]
+        if area > hi * _AREA_SLACK or area < lo / _AREA_SLACK:
+            yield Finding("room.polygon", f"the floor is {area:.1f} m² ({long_:.2f} x "
+                          f"{short:.2f} m); a {kind} is usually {_fmt(lo)}-{_fmt(hi)} m²",
+                          "resize the polygon", refs=("room",))
+            return
+    if short > 0 and long_ / short > _MAX_ASPECT and not words & {"corridor", "hallway",
+                                                                    "hall", "gallery"}:
+        yield Finding("room.polygon", f"the room is {long_:.2f} x {short:.2f} m, "
+                      f"{long_ / short:.1f} times as long as wide",
+                      f"use a room at most {_MAX_ASPECT:g} times as long as wide",
+                      refs=("room",))
+
+
+def _rule_findings(plan: Plan) -> Iterable[Finding]:
+    # duplicates
+    first: dict[tuple[str, str, str | None], int] = {}
+    for k, r in enumerate(plan.rules):
+        key = (r.rule, r.object, r.target)
+        if key in first:
+            j = first[key]
+            yield Finding(f"rules[{k}] ({r.rule})", f"repeats rules[{j}] "
+                          f"({r.rule} {r.object}" + (f" -> {r.target})" if r.target else ")"),
+                          "remove it", refs=(f"rules[{k}]",))
+        else:
+            first[key] = k
+    # more corner objects than corners
+    corners = convex_corners(plan.room.polygon)
+    in_corner = [k for k, r in enumerate(plan.rules) if r.rule == "in_corner"]
+    objs = list(dict.fromkeys(plan.rules[k].object for k in in_corner))
+    area_corner = [a.name for a in plan.areas if any(x.rule == "in_corner" for x in a.rules)]
+    wanted = len(objs) + len(area_corner)
+    if wanted > corners:
+        refs = tuple(f"rules[{k}]" for k in in_corner) + tuple(
+            f"areas[{i}]" for i, a in enumerate(plan.areas) if a.name in area_corner)
+        extra = ", ".join(f"rules[{k}]" for k in in_corner[corners:]) or "the area rules"
+        yield Finding(f"rules[{in_corner[-1]}] (in_corner)" if in_corner else "areas",
+                      f"{wanted} objects or areas are tucked into corners but the room has "
+                      f"{corners} convex corners",
+                      f"keep at most {corners} in_corner rules (use at_wall for {extra})",
+                      severity="infeasible", refs=refs)
+    # contradictions on one object or one pair
+    by_obj: dict[str, dict[str, int]] = defaultdict(dict)
+    by_pair: dict[frozenset[str], dict[str, int]] = defaultdict(dict)
+    for k, r in enumerate(plan.rules):
+        by_obj[r.object].setdefault(r.rule, k)
+        if r.target is not None:
+            by_pair[frozenset((r.object, r.target))].setdefault(r.rule, k)
+    for oid, rules in by_obj.items():
+        for a, b in _OPPOSITE:
+            if a in rules and b in rules and plan.rules[rules[a]].target == \
+                    plan.rules[rules[b]].target:
+                k = max(rules[a], rules[b])
+                yield Finding(f"rules[{k}] ({plan.rules[k].rule})",
+                              f"{oid!r} is both {a} and {b}"
+                              + (f" {plan.rules[k].target!r}" if plan.rules[k].target else ""),
+                              f"keep one of rules[{min(rules[a], rules[b])}] and rules[{k}]",
+                              severity="infeasible", refs=(f"rules[{rules[a]}]",
+                                                           f"rules[{rules[b]}]"))
+    for pair, rules in by_pair.items():
+        if "far_from" not in rules:
+            continue
+        close = [n for n in _CLOSE if n in rules]
+        if close:
+            k, j = rules["far_from"], rules[close[0]]
+            a, b = sorted(pair)
+            yield Finding(f"rules[{k}] (far_from)", f"{a!r} and {b!r} are both far_from and "
+                          f"{close[0]} (rules[{j}])", f"keep one of rules[{min(j, k)}] and "
+                          f"rules[{max(j, k)}]", severity="infeasible",
+                          refs=(f"rules[{j}]", f"rules[{k}]"))
+    # one object bound to many targets by one positional relation
+    targets: dict[tuple[str, str], list[int]] = defaultdict(list)
+    for k, r in enumerate(plan.rules):
+        if r.rule in _POSITIONAL and r.target is not None:
+            ks = targets[(r.object, r.rule)]
+            if r.target not in {plan.rules[j].target for j in ks}:
+                ks.append(k)
+    for (oid, rule), ks in targets.items():
+        if len(ks) > _MAX_TARGETS:
+            yield Finding(f"rules[{ks[-1]}] ({rule})", f"{oid!r} is {rule} {len(ks)} targets "
+                          f"({', '.join(repr(plan.rules[j].target) for j in ks)})",
+                          f"keep it {rule} at most {_MAX_TARGETS} of them (drop "
+                          f"{', '.join(f'rules[{j}]' for j in ks[_MAX_TARGETS:])})",
+                          refs=tuple(f"rules[{j}]" for j in ks))
+
+
+def plan_findings(plan: Plan) -> list[Finding]:
+    """Everything impossible or implausible about a valid plan, infeasible first.
+
+    Checks: more ``in_corner`` objects (and areas) than the floor has convex
+    corners; one object both ``far_from`` and close to the same target, or
+    bound by opposite rules (``in_front_of`` and ``behind``, ``at_wall`` and
+    ``in_middle``, ...); duplicated rules; one object bound by one positional
+    relation to more than two targets; a door or window listed as an object;
+    an object whose size is far (a factor 1.5) from its category's usual
+    range (:data:`CATEGORY_SIZES`); a floor far from the usual area of the
+    room type its name or description names (:data:`ROOM_AREAS`), or more
+    than 2.5 times as long as wide.
+
+    Parameters
+    ----------
+    plan : Plan
+        A validated plan.
+
+    Returns
+    -------
+    list of Finding
+    """
+    out = [*_rule_findings(plan), *_size_findings(plan), *_room_findings(plan)]
+    return sorted(out, key=lambda f: f.severity != "infeasible")
+

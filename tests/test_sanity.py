@@ -1,0 +1,177 @@
+"""Plans that validate but cannot or should not be: findings, deterministic fixes, the CLI."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import pytest
+
+import forcelayout as fl
+from forcelayout import Plan
+from forcelayout.autofix import autofix
+from forcelayout.cli import main
+from forcelayout.diagnose import FeasibilityWarning, feasibility
+from forcelayout.sanity import category_key, convex_corners, plan_findings
+
+ROOM = {"polygon": [[0, 0], [4, 0], [4, 3.5], [0, 3.5]], "height": 2.7,
+        "doors": [{"wall": 0, "offset": 1.0, "width": 0.9}]}
+
+
+def plan(objects, rules=(), *, name="student_bedroom", room=ROOM, areas=()):
+    return Plan.from_dict({"name": name, "room": room, "objects": list(objects),
+                           "rules": list(rules), "areas": list(areas)})
+
+
+def obj(oid, cat=None, size=(0.45, 0.4, 0.5)):
+    return {"id": oid, "category": cat or oid.rstrip("_0123456789"), "size": list(size)}
+
+
+def five_in_corner():
+    return plan([obj(f"shelf_{k}", "cabinet", (0.4, 0.4, 0.8)) for k in range(5)],
+                [{"rule": "in_corner", "object": f"shelf_{k}"} for k in range(5)])
+
+
+def test_convex_corners_of_rectangle_and_l_shape():
+    assert convex_corners([[0, 0], [4, 0], [4, 3], [0, 3]]) == 4
+    assert convex_corners([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]]) == 5
+    assert convex_corners([[0, 0], [2, 0], [4, 0], [4, 3], [0, 3]]) == 4  # collinear point
+
+
+def test_five_in_corner_objects_in_four_corners_are_infeasible():
+    f = feasibility(five_in_corner())
+    assert f.verdict == "infeasible"
+    assert any("5 objects or areas are tucked into corners but the room has 4 convex corners"
+               in n and "keep at most 4 in_corner rules" in n for n in f.notes)
+
+
+def test_contradictions_duplicates_and_many_targets():
+    p = plan([obj("bed", size=(1.0, 2.0, 0.5)), obj("nightstand"), obj("lamp", "lamp"),
+              obj("desk", size=(1.2, 0.6, 0.75)), obj("chair", size=(0.5, 0.5, 0.9))],
+             [{"rule": "next_to", "object": "nightstand", "target": "bed"},
+              {"rule": "far_from", "object": "nightstand", "target": "bed"},
+              {"rule": "at_wall", "object": "bed"},
+              {"rule": "at_wall", "object": "bed"},
+              {"rule": "aligned_with", "object": "lamp", "target": "bed"},
+              {"rule": "aligned_with", "object": "lamp", "target": "desk"},
+              {"rule": "aligned_with", "object": "lamp", "target": "chair"}])
+    found = [str(x) for x in plan_findings(p)]
+    assert found[0].startswith("rules[1] (far_from): 'bed' and 'nightstand' are both far_from "
+                               "and next_to")
+    assert "rules[3] (at_wall): repeats rules[2] (at_wall bed); remove it" in found
+    assert any(s.startswith("rules[6] (aligned_with): 'lamp' is aligned_with 3 targets")
+               for s in found)
+    assert feasibility(p).verdict == "infeasible"
+
+
+def test_opposite_unary_rules_are_a_contradiction():
+    p = plan([obj("desk", size=(1.2, 0.6, 0.75))],
+             [{"rule": "at_wall", "object": "desk"}, {"rule": "in_middle", "object": "desk"}])
+    assert "'desk' is both at_wall and in_middle" in str(plan_findings(p)[0])
+
+
+def test_window_as_object_narrow_bed_and_huge_bedroom_are_implausible():
+    big = {**ROOM, "polygon": [[0, 0], [14, 0], [14, 5], [0, 5]]}
+    p = plan([obj("bed_1", "chair", (0.5, 2.0, 0.5)), obj("window_1", "window", (1.2, 0.1, 1.2)),
+              obj("bed", size=(0.5, 2.0, 0.5))], room=big)
+    found = plan_findings(p)
+    text = "\n".join(map(str, found))
+    assert "objects[0].size: 'bed_1' (category 'chair') is 0.5 x 2 m; a chair is usually" in text
+    assert ("objects[1].category: 'window_1' is a window listed as an object; remove it and "
+            "declare it in room.doors or room.windows") in text
+    assert "objects[2].size: 'bed' (category 'bed') is 0.5 x 2 m; a bed is usually 0.8-2.2" \
+        in text
+    assert "room.polygon: the floor is 70.0 m² (14.00 x 5.00 m); a bedroom is usually 6-35 m²" \
+        in text
+    assert all(x.severity == "implausible" for x in found)
+    f = feasibility(p)
+    assert f.ok and any("window listed as an object" in n for n in f.notes)
+
+
+def test_long_thin_room_without_a_known_type():
+    p = plan([obj("desk", size=(1.2, 0.6, 0.75))], name="room",
+             room={"polygon": [[0, 0], [9, 0], [9, 3], [0, 3]]})
+    assert "3.0 times as long as wide" in str(plan_findings(p)[0])
+
+
+def test_category_keys_and_bundled_plans_have_no_findings():
+    assert category_key("Bedside Table") == "nightstand"
+    assert category_key("single_bed") == "bed"
+    assert category_key("coffee table") == "coffee_table"
+    assert category_key("plant") is None
+    for name in ("bedroom", "living_room", "home_office", "l_shaped_studio"):
+        assert plan_findings(fl.load_plan(name)) == []
+
+
+def test_autofix_clamps_openings_and_fixes_names():
+    data = {"name": "office", "room": {
+        "polygon": [[0, 0], [2.4, 0], [2.4, 3], [0, 3]], "height": 2.5,
+        "doors": [{"wall": 0, "offset": -0.4, "width": 0.9}, {"wall": 1, "offset": 1, "width": 4}],
+        "windows": [{"wall": 2, "offset": 1.2, "width": 1.2, "sill": 1.0, "height": 1.6}]},
+        "objects": [obj("desk_1", "Writing Desk", (1.2, 0.6, 0.75)), obj("desk_chair", "chair"),
+                    obj("window_1", "window", (1.0, 0.1, 1.0)),
+                    *(obj(f"box_{k}", "box", (0.3, 0.3, 0.3)) for k in range(5))],
+        "rules": [{"rule": "At Wall", "object": "desk", "target": "room"},
+                  {"rule": "nextTo", "object": "desk chair", "target": "desk_1"},
+                  {"rule": "next_to", "object": "desk_chair", "target": "desk_1"},
+                  {"rule": "near", "object": "desk_1", "target": "window"},
+                  {"rule": "far_from", "object": "desk_chair", "target": "desk_1"},
+                  {"rule": "near", "object": "window_1", "target": "desk_1"},
+                  *({"rule": "in_corner", "object": f"box_{k}"} for k in range(5))]}
+    fixed, notes = autofix(data)
+    assert data["room"]["doors"][0]["offset"] == -0.4  # the input is not changed
+    text = "\n".join(notes)
+    assert ("room.doors[0].offset: moved the door onto wall 0: offset -0.4 -> 0.45 m (offset "
+            "must lie in [0.45, 1.95] m for a 0.9 m door on a 2.4 m wall)") in text
+    assert "room.doors[1].width: narrowed the door from 4 to 2.8 m" in text
+    assert "room.windows[0].sill: lowered the window from 1 to 0.8 m" in text
+    assert "'At Wall' read as 'at_wall'" in text and "'nextTo' read as 'next_to'" in text
+    assert "rules[0] (at_wall).object: 'desk' read as 'desk_1'" in text
+    assert "rules[0] (at_wall).target: removed 'room' (at_wall takes no target)" in text
+    assert "near 'window' read as near_window" in text
+    assert "objects[2]: removed 'window_1'" in text
+    assert "in_corner -> at_wall (the room has 4 convex corners for 5 in_corner objects)" in text
+    assert "removed far_from 'desk_1'" in text
+    assert "repeats an earlier rule" in text
+    p = Plan.from_dict(fixed)
+    assert plan_findings(p) == []
+    assert [o.category for o in p.objects][:2] == ["writing_desk", "chair"]
+    assert sum(r.rule == "in_corner" for r in p.rules) == 4
+
+
+def test_validate_command_refuses_infeasible_and_warns_implausible(tmp_path, capsys):
+    bad = tmp_path / "bad.json"
+    bad.write_text(five_in_corner().to_json())
+    assert main(["validate", str(bad)]) == 1
+    out = capsys.readouterr()
+    assert "but no layout can meet it" in out.out
+    assert "infeasible: rules[4] (in_corner): 5 objects or areas are tucked into corners" \
+        in out.err
+    odd = tmp_path / "odd.json"
+    odd.write_text(plan([obj("bed", size=(0.5, 2.0, 0.5))]).to_json())
+    assert main(["validate", str(odd)]) == 0
+    err = capsys.readouterr().err
+    assert err.strip().splitlines() == [
+        "warning: objects[0].size: 'bed' (category 'bed') is 0.5 x 2 m; a bed is usually "
+        "0.8-2.2 x 1.8-2.4 m (height 0.25-1.4 m); fix the size or the category"]
+
+
+def test_generate_warns_before_sampling(tmp_path, capsys):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fl.generate(five_in_corner(), 0)
+    assert any(issubclass(w.category, FeasibilityWarning) and "in_corner" in str(w.message)
+               for w in caught)
+    odd = tmp_path / "odd.json"
+    odd.write_text(json.dumps(json.loads(plan([obj("bed", size=(0.5, 2.0, 0.5))]).to_json())))
+    main(["generate", str(odd), "-n", "1", "--out", str(tmp_path / "out"), "--quiet",
+          "--format", "none", "--max-attempts", "2"])
+    assert "warning: objects[0].size: 'bed' (category 'bed') is 0.5 x 2 m" in \
+        capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name", ["bedroom", "living_room"])
+def test_autofix_leaves_good_plans_alone(name):
+    data = json.loads(fl.load_plan(name).to_json())
+    fixed, notes = autofix(data)
+    assert notes == [] and fixed == data

@@ -29,6 +29,9 @@ __all__ = ["parents", "initial_poses", "propose_poses", "relocate"]
 
 #: Start places beside the parent, where wall length is kept free next to it.
 _SIDE_PLACES = frozenset({"beside", "left", "right"})
+#: Clearance a start pose keeps to other objects and door zones, metres (less a rounding
+#: tolerance: a pose flush against a wall beside a door zone sits right at it).
+_CLEAR = 0.05 - 1e-6
 
 
 @dataclass
@@ -454,6 +457,33 @@ class _Placer:
         self.floor = room.shape
         shapely.prepare(self.floor)
 
+    def _clearance(self, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray, ext: np.ndarray,
+                   solid: list[int], slack: np.ndarray, pos: np.ndarray, yaw: np.ndarray,
+                   doors: bool) -> tuple[np.ndarray, np.ndarray]:
+        """Whether footprints of half extent ``ext`` at the candidates lie inside the floor,
+        and their clearance (at most 0.3 m) to the ``solid`` rows and the door zones."""
+        hr, hf = rgt * ext[0], fwd * ext[1]
+        corners = np.stack([cand - hr - hf, cand + hr - hf, cand + hr + hf, cand - hr + hf],
+                           axis=1)
+        inside = shapely.contains(self.floor, shapely.polygons(corners))
+        clear = np.full(len(cand), 0.3)
+        if solid:
+            oy = yaw[solid]
+            oc, os_ = np.cos(oy), np.sin(oy)
+            sep = geo.obb_separation(pos[solid][None] - cand[:, None], rgt[:, None],
+                                     fwd[:, None], ext[None, None],
+                                     np.stack([oc, os_], axis=1)[None],
+                                     np.stack([-os_, oc], axis=1)[None],
+                                     self.half[solid][None])
+            # objects this one is related to may stand right beside it
+            clear = np.minimum(clear, (sep + slack[None, :]).min(axis=1))
+        dc, dr, df, dh = self.room.door_zones
+        if len(dc) and doors:
+            dsep = geo.obb_separation(dc[None] - cand[:, None], rgt[:, None], fwd[:, None],
+                                      ext[None, None], dr[None], df[None], dh[None])
+            clear = np.minimum(clear, dsep.min(axis=1))
+        return inside, clear
+
     def place(self, r: int, placed: list[int], pos: np.ndarray, yaw: np.ndarray,
               rng: np.random.Generator, tries: int, spread: float) -> None:
         """Choose a pose for row ``r`` given the ``placed`` rows; writes ``pos[r], yaw[r]``."""
@@ -461,8 +491,7 @@ class _Placer:
         half, radius, parent, wants = self.half, self.radius, self.parent, self.wants
         walkable, by_object, window, margin = self.walkable, self.by_object, self.window, \
             self.margin
-        lo, hi, floor = self.lo, self.hi, self.floor
-        dc, dr, df, dh = room.door_zones
+        lo, hi = self.lo, self.hi
         w = wants[r]
         places = w.places
         q = int(parent[r])
@@ -497,29 +526,17 @@ class _Placer:
         c, s = np.cos(cyaw), np.sin(cyaw)
         rgt = np.stack([c, s], axis=1)
         fwd = np.stack([-s, c], axis=1)
-        # judge the footprint widened by the room its side children need
-        reserve = half[r] + np.array([margin[r], 0.0])
-        hr, hf = rgt * reserve[0], fwd * reserve[1]
-        corners = np.stack([cand - hr - hf, cand + hr - hf, cand + hr + hf, cand - hr + hf],
-                           axis=1)
-        inside = shapely.contains(floor, shapely.polygons(corners))
-        clear = np.full(len(cand), 0.3)
-        # walkable covers are no obstacle: furniture stands on them, they lie under it
+        # judge the footprint widened by the room its side children need, and the
+        # footprint alone; walkable covers are no obstacle (furniture stands on them)
         solid = [] if walkable[r] else [p for p in placed if not walkable[p]]
-        if solid:
-            oy = yaw[solid]
-            oc, os_ = np.cos(oy), np.sin(oy)
-            sep = geo.obb_separation(pos[solid][None] - cand[:, None], rgt[:, None],
-                                     fwd[:, None], reserve[None, None],
-                                     np.stack([oc, os_], axis=1)[None],
-                                     np.stack([-os_, oc], axis=1)[None], half[solid][None])
-            # objects this one is related to may stand right beside it
-            slack = np.array([0.045 if p in w.related else 0.0 for p in solid])
-            clear = np.minimum(clear, (sep + slack[None, :]).min(axis=1))
-        if len(dc) and not walkable[r]:
-            dsep = geo.obb_separation(dc[None] - cand[:, None], rgt[:, None], fwd[:, None],
-                                      reserve[None, None], dr[None], df[None], dh[None])
-            clear = np.minimum(clear, dsep.min(axis=1))
+        slack = np.array([0.045 if p in w.related else 0.0 for p in solid])
+        inside, clear = self._clearance(cand, rgt, fwd, half[r] + np.array([margin[r], 0.0]),
+                                        solid, slack, pos, yaw, not walkable[r])
+        if margin[r] > 0:
+            inside0, clear0 = self._clearance(cand, rgt, fwd, half[r], solid, slack, pos, yaw,
+                                              not walkable[r])
+        else:
+            inside0, clear0 = inside, clear
         unmet = _unmet(room, w, cand, fwd, rgt, half[r])
         unmet += _unmet_rules(model, by_object[r], r, cand, cyaw, pos, yaw, placed)
         if window is not None and window.tall[:, r].any():  # tall: not in front of a window
@@ -529,10 +546,12 @@ class _Placer:
                                      window.lateral[z][None], window.out[z][None],
                                      window.half[z][None])
             unmet += (sep < -0.02).any(axis=1)
-        score = np.where(inside, clear, -np.inf)
-        # first candidate that is clear and meets the rules it can be judged by,
-        # else the clear one meeting most, else the one with the most clearance
-        rank = np.where(score >= 0.05, 10.0 - unmet, np.where(np.isfinite(score), -10.0, -99.0))
+        score = np.where(inside0, clear0, -np.inf)
+        # first clear candidate meeting the most of the rules it can be judged by,
+        # with room for its side children on a tie; else the one with the most clearance
+        rank = np.where(score >= _CLEAR,
+                        20.0 - 2.0 * unmet + (inside & (clear >= _CLEAR)),
+                        np.where(np.isfinite(score), -10.0, -99.0))
         k = int(np.argmax(rank)) if rank.max() > -10.0 else int(np.argmax(score))
         if np.isfinite(score[k]):
             pos[r], yaw[r] = cand[k], cyaw[k]

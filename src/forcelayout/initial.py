@@ -41,7 +41,7 @@ class _Wants:
     places: set[str] = field(default_factory=set)
     turns: set[str] = field(default_factory=set)
     related: set[int] = field(default_factory=set)  # every target row
-    below_wall_object: bool = False  # something hangs on the wall above this object
+    wall_above: float = 0.0  # width of the widest object hanging on the wall above this one
 
 
 def parents(model: ForceModel) -> np.ndarray:
@@ -120,7 +120,8 @@ def _wants(model: ForceModel) -> list[_Wants]:
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
                 and b.target in row:
-            out[row[b.target]].below_wall_object = True
+            w = out[row[b.target]]
+            w.wall_above = max(w.wall_above, float(model.plan.object(b.object).size[0]))
     return out
 
 
@@ -247,21 +248,29 @@ def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius,
 
 
 def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r) -> np.ndarray:
-    """Candidates of an object that something hangs on the wall above, near an opening, (K,).
+    """Candidates of an object that something hangs on the wall above, with no room for it, (K,).
 
-    That object should stand where the wall above it has no window or door
-    (1 where a candidate misses that, else 0).
+    The wall object hangs with its centre within this object's extent along
+    the wall (the ``above`` rule); a window or door on that wall leaves room
+    for it only if one side of the opening has a stretch of the wall object's
+    width whose centre still lies within this object's extent (1 where a
+    candidate misses that for some opening, else 0).
     """
     unmet = np.zeros(len(cand))
-    for win in (room.windows, room.doors) if wants.below_wall_object else ():
-        if not len(win):  # keep the wall above it free of windows and doors
+    if wants.wall_above <= 0:
+        return unmet
+    for win in (room.windows, room.doors):
+        if not len(win):
             continue
         d = cand[:, None, :] - win.centre[None]
-        along = np.abs((d * win.tangent[None]).sum(2))
+        along = (d * win.tangent[None]).sum(2)
         off = np.abs((d * win.normal[None]).sum(2))
-        reach = win.width[None] * 0.5 + 0.3 + np.abs((rgt[:, None] * win.tangent[None]).sum(2)) \
-            * half_r[0] + np.abs((fwd[:, None] * win.tangent[None]).sum(2)) * half_r[1]
-        unmet += ((along < reach) & (off < half_r.max() + 0.3)).any(1)
+        extent = np.abs((rgt[:, None] * win.tangent[None]).sum(2)) * half_r[0] \
+            + np.abs((fwd[:, None] * win.tangent[None]).sum(2)) * half_r[1]
+        # centres of the wall object clear of the opening: beyond this distance from its centre
+        reach = win.width[None] * 0.5 + 0.05 + 0.5 * wants.wall_above
+        blocked = (along - extent > -reach) & (along + extent < reach)
+        unmet += (blocked & (off < half_r.max() + 0.3)).any(1)
     return unmet
 
 

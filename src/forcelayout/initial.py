@@ -29,6 +29,9 @@ __all__ = ["parents", "initial_poses", "propose_poses", "relocate"]
 
 #: Start places beside the parent, where wall length is kept free next to it.
 _SIDE_PLACES = frozenset({"beside", "left", "right"})
+#: Clearance a start pose keeps to other objects and door zones, metres (less a rounding
+#: tolerance: a pose flush against a wall beside a door zone sits right at it).
+_CLEAR = 0.05 - 1e-6
 
 
 @dataclass
@@ -38,7 +41,7 @@ class _Wants:
     places: set[str] = field(default_factory=set)
     turns: set[str] = field(default_factory=set)
     related: set[int] = field(default_factory=set)  # every target row
-    below_wall_object: bool = False  # something hangs on the wall above this object
+    wall_above: float = 0.0  # width of the widest object hanging on the wall above this one
 
 
 def parents(model: ForceModel) -> np.ndarray:
@@ -117,7 +120,8 @@ def _wants(model: ForceModel) -> list[_Wants]:
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
                 and b.target in row:
-            out[row[b.target]].below_wall_object = True
+            w = out[row[b.target]]
+            w.wall_above = max(w.wall_above, float(model.plan.object(b.object).size[0]))
     return out
 
 
@@ -244,21 +248,29 @@ def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius,
 
 
 def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r) -> np.ndarray:
-    """Candidates of an object that something hangs on the wall above, near an opening, (K,).
+    """Candidates of an object that something hangs on the wall above, with no room for it, (K,).
 
-    That object should stand where the wall above it has no window or door
-    (1 where a candidate misses that, else 0).
+    The wall object hangs with its centre within this object's extent along
+    the wall (the ``above`` rule); a window or door on that wall leaves room
+    for it only if one side of the opening has a stretch of the wall object's
+    width whose centre still lies within this object's extent (1 where a
+    candidate misses that for some opening, else 0).
     """
     unmet = np.zeros(len(cand))
-    for win in (room.windows, room.doors) if wants.below_wall_object else ():
-        if not len(win):  # keep the wall above it free of windows and doors
+    if wants.wall_above <= 0:
+        return unmet
+    for win in (room.windows, room.doors):
+        if not len(win):
             continue
         d = cand[:, None, :] - win.centre[None]
-        along = np.abs((d * win.tangent[None]).sum(2))
+        along = (d * win.tangent[None]).sum(2)
         off = np.abs((d * win.normal[None]).sum(2))
-        reach = win.width[None] * 0.5 + 0.3 + np.abs((rgt[:, None] * win.tangent[None]).sum(2)) \
-            * half_r[0] + np.abs((fwd[:, None] * win.tangent[None]).sum(2)) * half_r[1]
-        unmet += ((along < reach) & (off < half_r.max() + 0.3)).any(1)
+        extent = np.abs((rgt[:, None] * win.tangent[None]).sum(2)) * half_r[0] \
+            + np.abs((fwd[:, None] * win.tangent[None]).sum(2)) * half_r[1]
+        # centres of the wall object clear of the opening: beyond this distance from its centre
+        reach = win.width[None] * 0.5 + 0.05 + 0.5 * wants.wall_above
+        blocked = (along - extent > -reach) & (along + extent < reach)
+        unmet += (blocked & (off < half_r.max() + 0.3)).any(1)
     return unmet
 
 
@@ -454,6 +466,33 @@ class _Placer:
         self.floor = room.shape
         shapely.prepare(self.floor)
 
+    def _clearance(self, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray, ext: np.ndarray,
+                   solid: list[int], slack: np.ndarray, pos: np.ndarray, yaw: np.ndarray,
+                   doors: bool) -> tuple[np.ndarray, np.ndarray]:
+        """Whether footprints of half extent ``ext`` at the candidates lie inside the floor,
+        and their clearance (at most 0.3 m) to the ``solid`` rows and the door zones."""
+        hr, hf = rgt * ext[0], fwd * ext[1]
+        corners = np.stack([cand - hr - hf, cand + hr - hf, cand + hr + hf, cand - hr + hf],
+                           axis=1)
+        inside = shapely.contains(self.floor, shapely.polygons(corners))
+        clear = np.full(len(cand), 0.3)
+        if solid:
+            oy = yaw[solid]
+            oc, os_ = np.cos(oy), np.sin(oy)
+            sep = geo.obb_separation(pos[solid][None] - cand[:, None], rgt[:, None],
+                                     fwd[:, None], ext[None, None],
+                                     np.stack([oc, os_], axis=1)[None],
+                                     np.stack([-os_, oc], axis=1)[None],
+                                     self.half[solid][None])
+            # objects this one is related to may stand right beside it
+            clear = np.minimum(clear, (sep + slack[None, :]).min(axis=1))
+        dc, dr, df, dh = self.room.door_zones
+        if len(dc) and doors:
+            dsep = geo.obb_separation(dc[None] - cand[:, None], rgt[:, None], fwd[:, None],
+                                      ext[None, None], dr[None], df[None], dh[None])
+            clear = np.minimum(clear, dsep.min(axis=1))
+        return inside, clear
+
     def place(self, r: int, placed: list[int], pos: np.ndarray, yaw: np.ndarray,
               rng: np.random.Generator, tries: int, spread: float) -> None:
         """Choose a pose for row ``r`` given the ``placed`` rows; writes ``pos[r], yaw[r]``."""
@@ -461,8 +500,7 @@ class _Placer:
         half, radius, parent, wants = self.half, self.radius, self.parent, self.wants
         walkable, by_object, window, margin = self.walkable, self.by_object, self.window, \
             self.margin
-        lo, hi, floor = self.lo, self.hi, self.floor
-        dc, dr, df, dh = room.door_zones
+        lo, hi = self.lo, self.hi
         w = wants[r]
         places = w.places
         q = int(parent[r])
@@ -497,29 +535,17 @@ class _Placer:
         c, s = np.cos(cyaw), np.sin(cyaw)
         rgt = np.stack([c, s], axis=1)
         fwd = np.stack([-s, c], axis=1)
-        # judge the footprint widened by the room its side children need
-        reserve = half[r] + np.array([margin[r], 0.0])
-        hr, hf = rgt * reserve[0], fwd * reserve[1]
-        corners = np.stack([cand - hr - hf, cand + hr - hf, cand + hr + hf, cand - hr + hf],
-                           axis=1)
-        inside = shapely.contains(floor, shapely.polygons(corners))
-        clear = np.full(len(cand), 0.3)
-        # walkable covers are no obstacle: furniture stands on them, they lie under it
+        # judge the footprint widened by the room its side children need, and the
+        # footprint alone; walkable covers are no obstacle (furniture stands on them)
         solid = [] if walkable[r] else [p for p in placed if not walkable[p]]
-        if solid:
-            oy = yaw[solid]
-            oc, os_ = np.cos(oy), np.sin(oy)
-            sep = geo.obb_separation(pos[solid][None] - cand[:, None], rgt[:, None],
-                                     fwd[:, None], reserve[None, None],
-                                     np.stack([oc, os_], axis=1)[None],
-                                     np.stack([-os_, oc], axis=1)[None], half[solid][None])
-            # objects this one is related to may stand right beside it
-            slack = np.array([0.045 if p in w.related else 0.0 for p in solid])
-            clear = np.minimum(clear, (sep + slack[None, :]).min(axis=1))
-        if len(dc) and not walkable[r]:
-            dsep = geo.obb_separation(dc[None] - cand[:, None], rgt[:, None], fwd[:, None],
-                                      reserve[None, None], dr[None], df[None], dh[None])
-            clear = np.minimum(clear, dsep.min(axis=1))
+        slack = np.array([0.045 if p in w.related else 0.0 for p in solid])
+        inside, clear = self._clearance(cand, rgt, fwd, half[r] + np.array([margin[r], 0.0]),
+                                        solid, slack, pos, yaw, not walkable[r])
+        if margin[r] > 0:
+            inside0, clear0 = self._clearance(cand, rgt, fwd, half[r], solid, slack, pos, yaw,
+                                              not walkable[r])
+        else:
+            inside0, clear0 = inside, clear
         unmet = _unmet(room, w, cand, fwd, rgt, half[r])
         unmet += _unmet_rules(model, by_object[r], r, cand, cyaw, pos, yaw, placed)
         if window is not None and window.tall[:, r].any():  # tall: not in front of a window
@@ -529,10 +555,12 @@ class _Placer:
                                      window.lateral[z][None], window.out[z][None],
                                      window.half[z][None])
             unmet += (sep < -0.02).any(axis=1)
-        score = np.where(inside, clear, -np.inf)
-        # first candidate that is clear and meets the rules it can be judged by,
-        # else the clear one meeting most, else the one with the most clearance
-        rank = np.where(score >= 0.05, 10.0 - unmet, np.where(np.isfinite(score), -10.0, -99.0))
+        score = np.where(inside0, clear0, -np.inf)
+        # first clear candidate meeting the most of the rules it can be judged by,
+        # with room for its side children on a tie; else the one with the most clearance
+        rank = np.where(score >= _CLEAR,
+                        20.0 - 2.0 * unmet + (inside & (clear >= _CLEAR)),
+                        np.where(np.isfinite(score), -10.0, -99.0))
         k = int(np.argmax(rank)) if rank.max() > -10.0 else int(np.argmax(score))
         if np.isfinite(score[k]):
             pos[r], yaw[r] = cand[k], cyaw[k]

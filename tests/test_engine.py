@@ -271,9 +271,7 @@ def test_no_import_cycles_among_modules():
 
 def test_no_built_in_rule_names_outside_the_rules_package():
     names = set(registry.builtin_rules())
-    allowed = {"llm/prompts.py", "llm/steps.py",  # prompt examples for the model
-               # which built-in rules contradict each other, and names models use for them
-               "sanity.py", "autofix.py"}
+    allowed = {"llm/prompts.py", "llm/steps.py"}  # prompt examples for the model
     offenders = []
     for path in SRC.rglob("*.py"):
         rel = path.relative_to(SRC).as_posix()

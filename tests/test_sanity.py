@@ -175,3 +175,131 @@ def test_autofix_leaves_good_plans_alone(name):
     data = json.loads(fl.load_plan(name).to_json())
     fixed, notes = autofix(data)
     assert notes == [] and fixed == data
+
+
+# ---------------------------------------------------------------- plugin declarations
+
+
+def _still(self, state, i, j, p):
+    import numpy as np
+
+    return np.zeros((len(i), 2)), np.zeros(len(i))
+
+
+def _met(self, state, i, j, p):
+    import numpy as np
+
+    return np.ones(len(i), dtype=bool)
+
+
+@pytest.fixture
+def plant_rules():
+    """Plugin rules that declare what the findings and the autofix read."""
+    from forcelayout.rules import Rule, StartHint, register, unregister
+
+    body = {"force": _still, "satisfied": _met}
+    classes = {
+        "hug_plant": type("HugPlant", (Rule,), {
+            "__doc__": "Close to a plant.", "target": "required", "closeness": "close",
+            "positional": True, "aliases": ("by_plant",), **body}),
+        "shun_plant": type("ShunPlant", (Rule,), {
+            "__doc__": "Away from a plant.", "target": "required", "opposite": "hug_plant",
+            **body}),
+        "nook": type("Nook", (Rule,), {
+            "__doc__": "Tucked into a corner.", "start": StartHint(place="corner"),
+            "fallback": "at_wall", "aliases": ("in_a_nook",), **body}),
+        "by_fireplace": type("ByFireplace", (Rule,), {
+            "__doc__": "Near the fireplace.", "feature": "fireplace",
+            "specialises": ("near", "next_to"), **body}),
+    }
+    for name, cls in classes.items():
+        register(name, cls)
+    yield classes
+    for name in classes:
+        unregister(name)
+
+
+def test_plugin_declarations_drive_the_findings(plant_rules):
+    p = plan([obj("ficus", "plant", (0.5, 0.5, 1.4)), obj("chair", size=(0.5, 0.5, 0.9)),
+              obj("lamp", "lamp"), obj("desk", size=(1.2, 0.6, 0.75)),
+              *(obj(f"box_{k}", "box", (0.3, 0.3, 0.3)) for k in range(5))],
+             [{"rule": "hug_plant", "object": "chair", "target": "ficus"},
+              {"rule": "shun_plant", "object": "chair", "target": "ficus"},
+              {"rule": "far_from", "object": "ficus", "target": "chair"},
+              {"rule": "hug_plant", "object": "lamp", "target": "ficus"},
+              {"rule": "hug_plant", "object": "lamp", "target": "desk"},
+              {"rule": "hug_plant", "object": "lamp", "target": "chair"},
+              *({"rule": "nook", "object": f"box_{k}"} for k in range(5))])
+    found = [str(x) for x in plan_findings(p)]
+    assert any(s.startswith("rules[10] (nook): 5 objects or areas are tucked into corners but "
+                            "the room has 4 convex corners; keep at most 4 nook rules (use "
+                            "at_wall for rules[10])") for s in found), found
+    assert "rules[1] (shun_plant): 'chair' is both shun_plant and hug_plant 'ficus'; keep one " \
+           "of rules[0] and rules[1]" in found
+    assert any(s.startswith("rules[2] (far_from): 'chair' and 'ficus' are both far_from and "
+                            "hug_plant (rules[0])") for s in found), found
+    assert any(s.startswith("rules[5] (hug_plant): 'lamp' is hug_plant 3 targets")
+               for s in found), found
+
+
+def test_plugin_declarations_drive_the_autofix(plant_rules):
+    import forcelayout.autofix as af
+
+    assert af.rule_aliases()["by_plant"] == "hug_plant"
+    assert af.RULE_ALIASES["beside"] == "next_to"
+    data = {"name": "den", "room": ROOM,
+            "objects": [obj("ficus", "plant", (0.5, 0.5, 1.4)), obj("chair"),
+                        *(obj(f"box_{k}", "box", (0.3, 0.3, 0.3)) for k in range(5))],
+            "rules": [{"rule": "by plant", "object": "chair", "target": "ficus"},
+                      {"rule": "far_from", "object": "ficus", "target": "chair"},
+                      {"rule": "near", "object": "chair", "target": "the fireplace"},
+                      *({"rule": "in a nook", "object": f"box_{k}"} for k in range(5))]}
+    fixed, notes = autofix(data)
+    text = "\n".join(notes)
+    assert "rules[0].rule: 'by plant' read as 'hug_plant'" in text
+    assert "removed far_from 'chair', which contradicts a rule that keeps them close" in text
+    assert "near 'the fireplace' read as by_fireplace" in text
+    assert "nook -> at_wall (the room has 4 convex corners for 5 nook objects)" in text
+    assert [r["rule"] for r in fixed["rules"]] == ["hug_plant", "by_fireplace"] + ["nook"] * 4 \
+        + ["at_wall"]
+    assert plan_findings(Plan.from_dict(fixed)) == []
+
+
+def test_an_alias_two_rules_declare_is_left_alone(plant_rules):
+    from forcelayout.autofix import rule_aliases
+    from forcelayout.rules import register, unregister
+
+    other = type("ByPlant", (plant_rules["hug_plant"],), {"aliases": ("by_plant",)})
+    register("hold_plant", other)
+    try:
+        assert "by_plant" not in rule_aliases()
+        fixed, _ = autofix({"rules": [{"rule": "by_plant", "object": "a", "target": "b"}]})
+        assert fixed["rules"][0]["rule"] == "by_plant"
+    finally:
+        unregister("hold_plant")
+
+
+def test_declarations_are_checked_and_listed(plant_rules):
+    from forcelayout.rules import Rule, describe_rules
+
+    sub = type("HugPlantMore", (plant_rules["hug_plant"],), {})
+    assert sub.aliases == () and sub.closeness == "close"  # names are not inherited
+    with pytest.raises(TypeError, match="closeness"):
+        type("Bad", (Rule,), {"closeness": "near"})
+    with pytest.raises(TypeError, match="aliases"):
+        type("Bad", (Rule,), {"aliases": "beside"})
+    with pytest.raises(TypeError, match="specialises needs feature"):
+        type("Bad", (Rule,), {"specialises": ("near",)})
+    info = describe_rules("hug_plant")[0]
+    assert (info.aliases, info.closeness, info.positional) == (("by_plant",), "close", True)
+    built_in = {i.name: i for i in describe_rules()}
+    assert built_in["in_front_of"].opposite == "behind"
+    assert built_in["near_door"].feature == "door"
+    assert built_in["in_corner"].fallback == "at_wall"
+
+
+def test_rules_json_lists_the_declarations(capsys):
+    assert main(["rules", "--json", "in_corner"]) == 0
+    (info,) = json.loads(capsys.readouterr().out)
+    assert info["aliases"] == ["corner", "at_corner"] and info["fallback"] == "at_wall"
+    assert info["opposite"] == "in_middle" and info["feature"] == "corner"

@@ -19,6 +19,11 @@ itself and asks the model again only about what needs a choice:
 * an object both ``far_from`` and close to one target loses the
   ``far_from``.
 
+What these fixes know about rules (aliases, the rule a feature of the room
+means, corner rules and their fallback, close and far rules) is read from
+the rules' declarations (:class:`forcelayout.rules.Rule`), so a plugin rule
+takes part by declaring it.
+
 Examples
 --------
 >>> from forcelayout.autofix import autofix
@@ -45,33 +50,56 @@ import re
 from typing import Any
 
 from forcelayout import rules as registry
+from forcelayout.rules import Rule
 from forcelayout.sanity import OPENING_WORDS, category_key, convex_corners
 
-__all__ = ["autofix", "RULE_ALIASES"]
+__all__ = ["autofix", "rule_aliases"]
 
-#: Names small models use for registered rules.
-RULE_ALIASES = {
-    "against_wall": "at_wall", "wall": "at_wall", "by_wall": "at_wall",
-    "near_wall": "at_wall", "corner": "in_corner", "at_corner": "in_corner",
-    "center": "in_middle", "centre": "in_middle", "in_center": "in_middle",
-    "in_centre": "in_middle", "middle": "in_middle", "beside": "next_to", "adjacent": "next_to",
-    "adjacent_to": "next_to", "close_to": "near", "nearby": "near", "faces": "facing",
-    "face": "facing", "facing_towards": "facing", "on": "on_top", "on_top_of": "on_top",
-    "ontop": "on_top", "in_front": "in_front_of", "front_of": "in_front_of",
-    "behind_of": "behind", "left": "left_of", "right": "right_of", "away_from": "far_from",
-    "far": "far_from", "aligned": "aligned_with", "align_with": "aligned_with",
-    "ceiling": "on_ceiling", "hang_on_wall": "on_wall", "by_window": "near_window",
-    "by_door": "near_door", "underneath": "under", "below": "under",
-}
-# a binary rule aimed at a room feature -> the unary rule meant
-_FEATURE_RULES = {
-    "door": {"near": "near_door", "next_to": "near_door", "far_from": "away_from_door"},
-    "window": {"near": "near_window", "next_to": "near_window", "facing": "near_window"},
-    "wall": {"near": "at_wall", "next_to": "at_wall"},
-    "corner": {"near": "in_corner", "next_to": "in_corner"},
-}
-_CLOSE = {"next_to", "near", "around", "in_front_of", "behind", "left_of", "right_of",
-          "under", "on_top", "near_plant"}
+
+def _declared() -> list[Rule]:
+    """Every registered rule whose class can be loaded (its declarations drive the fixes)."""
+    out = []
+    for name in registry.available_rules():
+        try:
+            out.append(registry.get_rule(name))
+        except Exception:  # a broken plugin is reported where a plan names it, not here
+            continue
+    return out
+
+
+def rule_aliases() -> dict[str, str]:
+    """Near-miss rule names and the registered rule each means, from the rules' ``aliases``.
+
+    An alias two rules declare is ambiguous and left out; so is an alias that
+    is itself a registered name.
+    """
+    claims: dict[str, set[str]] = {}
+    for rule in _declared():
+        for alias in rule.aliases:
+            claims.setdefault(alias, set()).add(rule.name)
+    return {a: next(iter(names)) for a, names in sorted(claims.items())
+            if len(names) == 1 and not registry.is_registered(a)}
+
+
+def __getattr__(name: str) -> Any:
+    if name == "RULE_ALIASES":  # computed: plugins registered later declare aliases too
+        return rule_aliases()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def _feature_rules() -> dict[str, dict[str, str]]:
+    """``{feature: {target rule: rule meant}}`` from the rules' ``feature`` and ``specialises``.
+
+    A target rule aimed at a room feature (``near`` the ``"window"``) means the
+    rule declaring that feature and specialising it (``near_window``).
+    """
+    out: dict[str, dict[str, str]] = {}
+    for rule in _declared():
+        if rule.feature is not None:
+            meant = out.setdefault(rule.feature, {})
+            for general in rule.specialises:
+                meant.setdefault(general, rule.name)
+    return out
 
 
 def _snake(text: str) -> str:
@@ -79,22 +107,22 @@ def _snake(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9]+", "_", s).strip("_").lower()
 
 
-def _rule_name(name: str, known: list[str]) -> str | None:
+def _rule_name(name: str, known: list[str], aliases: dict[str, str]) -> str | None:
     """The registered rule a near-miss name means, or None."""
     s = _snake(name)
     if s in known:
         return s
-    if s in RULE_ALIASES and RULE_ALIASES[s] in known:
-        return RULE_ALIASES[s]
+    if s in aliases and aliases[s] in known:
+        return aliases[s]
     close = difflib.get_close_matches(s, known, n=1, cutoff=0.8)
     return close[0] if close else None
 
 
-def _feature(target: str) -> str | None:
+def _feature(target: str, features: dict[str, dict[str, str]]) -> str | None:
     words = [w for w in re.split(r"[^a-z]+", target.lower()) if w]
     for w in words:
         w = w[:-1] if w.endswith("s") else w
-        if w in _FEATURE_RULES or w == "room":
+        if w in features or w == "room":
             return w
     return None
 
@@ -203,6 +231,8 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
         if isinstance(o.get("id"), str) and isinstance(o.get("category"), str):
             by_cat.setdefault(o["category"], []).append(o["id"])
     known = registry.available_rules()
+    aliases = rule_aliases()
+    features = _feature_rules()
 
     def map_id(value: Any) -> Any:
         if not isinstance(value, str) or value in ids or not ids:
@@ -226,7 +256,7 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
             continue
         name = r["rule"]
         if not registry.is_registered(name):
-            mapped = _rule_name(name, known)
+            mapped = _rule_name(name, known, aliases)
             if mapped is not None:
                 notes.append(f"rules[{k}].rule: {name!r} read as {mapped!r}")
                 r["rule"] = name = mapped
@@ -242,8 +272,8 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
         if registry.is_registered(name):
             rule = registry.get_rule(name)
             if isinstance(target, str) and target not in ids and rule.target != "none":
-                feature = _feature(target)
-                unary = _FEATURE_RULES.get(feature or "", {}).get(name)
+                feature = _feature(target, features)
+                unary = features.get(feature or "", {}).get(name)
                 if unary is not None and registry.is_registered(unary):
                     notes.append(f"rules[{k}] ({name}): {name} {target!r} read as {unary} "
                                  "(the target is the room's, not an object)")
@@ -265,26 +295,39 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
             continue
         seen.add(key)
         new_rules.append(r)
-    # more corner objects than corners -> the extra ones at a wall
+    # more corner objects than corners -> the extra ones become the rule's fallback
+    def declared(r: Any) -> Rule | None:
+        if not isinstance(r, dict) or not isinstance(r.get("rule"), str) \
+                or not registry.is_registered(r["rule"]):
+            return None
+        return registry.get_rule(r["rule"])
+
     if isinstance(room, dict):
         try:
             corners = convex_corners(room.get("polygon") or [])
         except (TypeError, ValueError, IndexError):
             corners = 4
-        in_corner = [r for r in new_rules if isinstance(r, dict) and r.get("rule") == "in_corner"]
+        in_corner = [r for r in new_rules if (rule := declared(r)) is not None
+                     and rule.start is not None and rule.start.place == "corner"]
+        names = "/".join(dict.fromkeys(r["rule"] for r in in_corner))
         for r in in_corner[corners:]:
-            notes.append(f"rules ({r.get('object')}): in_corner -> at_wall (the room has "
-                         f"{corners} convex corners for {len(in_corner)} in_corner objects)")
-            r["rule"] = "at_wall"
+            fallback = registry.get_rule(r["rule"]).fallback
+            if fallback is None or not registry.is_registered(fallback):
+                continue
+            notes.append(f"rules ({r.get('object')}): {r['rule']} -> {fallback} (the room has "
+                         f"{corners} convex corners for {len(in_corner)} {names} objects)")
+            r["rule"] = fallback
             r["params"] = {}
-    # far_from and close to the same target -> drop the far_from
+    # far and close to the same target -> drop the far rule
     close_pairs = {frozenset((r.get("object"), r.get("target"))) for r in new_rules
-                   if isinstance(r, dict) and r.get("rule") in _CLOSE and r.get("target")}
+                   if (rule := declared(r)) is not None and rule.closeness == "close"
+                   and r.get("target")}
     final = []
     for r in new_rules:
-        if isinstance(r, dict) and r.get("rule") == "far_from" and \
+        rule = declared(r)
+        if rule is not None and rule.closeness == "far" and \
                 frozenset((r.get("object"), r.get("target"))) in close_pairs:
-            notes.append(f"rules ({r.get('object')}): removed far_from {r.get('target')!r}, "
+            notes.append(f"rules ({r.get('object')}): removed {r['rule']} {r.get('target')!r}, "
                          "which contradicts a rule that keeps them close")
             continue
         final.append(r)

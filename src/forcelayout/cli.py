@@ -51,6 +51,10 @@ def _cmd_rules(args: argparse.Namespace) -> int:
                            "start": None if i.start is None else {
                                "place": i.start.place, "turn": i.start.turn,
                                "parent": i.start.parent},
+                           "positional": i.positional, "closeness": i.closeness,
+                           "opposite": i.opposite, "aliases": list(i.aliases),
+                           "feature": i.feature, "specialises": list(i.specialises),
+                           "fallback": i.fallback,
                            "summary": i.summary, "weight": i.weight, "params": i.params}
                           for i in infos],
                          indent=2, default=str))

@@ -35,7 +35,10 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Literal
 
+from forcelayout import rules as registry
+from forcelayout.errors import UnknownRuleError
 from forcelayout.plan import Plan
+from forcelayout.rules import Rule
 
 __all__ = ["Finding", "plan_findings", "CATEGORY_SIZES", "ROOM_AREAS", "OPENING_WORDS",
            "category_key", "convex_corners", "Severity"]
@@ -103,12 +106,7 @@ _SIZE_SLACK = 1.5      # a size is "far" from its range beyond this factor
 _AREA_SLACK = 1.3
 _MAX_ASPECT = 2.5      # longer side / shorter side of an ordinary room
 _MAX_TARGETS = 2       # distinct targets of one positional relation per object
-_POSITIONAL = ("aligned_with", "around", "behind", "in_front_of", "left_of", "right_of",
-               "under", "facing")
-_CLOSE = ("next_to", "near", "around", "in_front_of", "behind", "left_of", "right_of",
-          "under", "on_top", "near_plant")
-_OPPOSITE = {("in_front_of", "behind"), ("left_of", "right_of"), ("at_wall", "in_middle"),
-             ("in_corner", "in_middle"), ("near_door", "away_from_door")}
+
 
 
 @dataclass(frozen=True)
@@ -249,6 +247,25 @@ def _room_findings(plan: Plan) -> Iterable[Finding]:
                       refs=("room",))
 
 
+def _rule(name: str) -> Rule | None:
+    """The registered rule ``name`` (its class declares what the findings need), or None."""
+    try:
+        return registry.get_rule(name)
+    except UnknownRuleError:
+        return None
+
+
+def _is_corner(name: str) -> bool:
+    """Whether the rule tucks its object into a corner (limited by the floor's corners)."""
+    rule = _rule(name)
+    return rule is not None and rule.start is not None and rule.start.place == "corner"
+
+
+def _opposite(name: str) -> str | None:
+    """The rule ``name`` declares to contradict it (the relation is symmetric)."""
+    return getattr(_rule(name), "opposite", None)
+
+
 def _rule_findings(plan: Plan) -> Iterable[Finding]:
     # duplicates
     first: dict[tuple[str, str, str | None], int] = {}
@@ -263,18 +280,25 @@ def _rule_findings(plan: Plan) -> Iterable[Finding]:
             first[key] = k
     # more corner objects than corners
     corners = convex_corners(plan.room.polygon)
-    in_corner = [k for k, r in enumerate(plan.rules) if r.rule == "in_corner"]
+    in_corner = [k for k, r in enumerate(plan.rules) if _is_corner(r.rule)]
     objs = list(dict.fromkeys(plan.rules[k].object for k in in_corner))
-    area_corner = [a.name for a in plan.areas if any(x.rule == "in_corner" for x in a.rules)]
+    area_corner = [a.name for a in plan.areas if any(_is_corner(x.rule) for x in a.rules)]
     wanted = len(objs) + len(area_corner)
     if wanted > corners:
         refs = tuple(f"rules[{k}]" for k in in_corner) + tuple(
             f"areas[{i}]" for i, a in enumerate(plan.areas) if a.name in area_corner)
         extra = ", ".join(f"rules[{k}]" for k in in_corner[corners:]) or "the area rules"
-        yield Finding(f"rules[{in_corner[-1]}] (in_corner)" if in_corner else "areas",
+        names = list(dict.fromkeys([plan.rules[k].rule for k in in_corner] + [
+            x.rule for a in plan.areas for x in a.rules if _is_corner(x.rule)]))
+        fallbacks = [f for f in dict.fromkeys(getattr(_rule(n), "fallback", None) for n in names)
+                     if f is not None]
+        instead = (f"use {' or '.join(fallbacks)} for {extra}" if fallbacks
+                   else f"bind {extra} otherwise")
+        yield Finding(f"rules[{in_corner[-1]}] ({plan.rules[in_corner[-1]].rule})"
+                      if in_corner else "areas",
                       f"{wanted} objects or areas are tucked into corners but the room has "
                       f"{corners} convex corners",
-                      f"keep at most {corners} in_corner rules (use at_wall for {extra})",
+                      f"keep at most {corners} {' / '.join(names)} rules ({instead})",
                       severity="infeasible", refs=refs)
     # contradictions on one object or one pair
     by_obj: dict[str, dict[str, int]] = defaultdict(dict)
@@ -284,31 +308,35 @@ def _rule_findings(plan: Plan) -> Iterable[Finding]:
         if r.target is not None:
             by_pair[frozenset((r.object, r.target))].setdefault(r.rule, k)
     for oid, rules in by_obj.items():
-        for a, b in _OPPOSITE:
-            if a in rules and b in rules and plan.rules[rules[a]].target == \
-                    plan.rules[rules[b]].target:
-                k = max(rules[a], rules[b])
-                yield Finding(f"rules[{k}] ({plan.rules[k].rule})",
-                              f"{oid!r} is both {a} and {b}"
-                              + (f" {plan.rules[k].target!r}" if plan.rules[k].target else ""),
-                              f"keep one of rules[{min(rules[a], rules[b])}] and rules[{k}]",
-                              severity="infeasible", refs=(f"rules[{rules[a]}]",
-                                                           f"rules[{rules[b]}]"))
+        seen: set[frozenset[str]] = set()
+        for a in rules:
+            b = _opposite(a)
+            if b is None or b not in rules or frozenset((a, b)) in seen or \
+                    plan.rules[rules[a]].target != plan.rules[rules[b]].target:
+                continue
+            seen.add(frozenset((a, b)))
+            k = max(rules[a], rules[b])
+            yield Finding(f"rules[{k}] ({plan.rules[k].rule})",
+                          f"{oid!r} is both {a} and {b}"
+                          + (f" {plan.rules[k].target!r}" if plan.rules[k].target else ""),
+                          f"keep one of rules[{min(rules[a], rules[b])}] and rules[{k}]",
+                          severity="infeasible", refs=(f"rules[{rules[a]}]",
+                                                       f"rules[{rules[b]}]"))
     for pair, rules in by_pair.items():
-        if "far_from" not in rules:
-            continue
-        close = [n for n in _CLOSE if n in rules]
-        if close:
-            k, j = rules["far_from"], rules[close[0]]
+        far = [n for n in rules if getattr(_rule(n), "closeness", None) == "far"]
+        close = [n for n in rules if getattr(_rule(n), "closeness", None) == "close"]
+        if far and close:
+            name = far[0]
+            k, j = rules[name], rules[close[0]]
             a, b = sorted(pair)
-            yield Finding(f"rules[{k}] (far_from)", f"{a!r} and {b!r} are both far_from and "
+            yield Finding(f"rules[{k}] ({name})", f"{a!r} and {b!r} are both {name} and "
                           f"{close[0]} (rules[{j}])", f"keep one of rules[{min(j, k)}] and "
                           f"rules[{max(j, k)}]", severity="infeasible",
                           refs=(f"rules[{j}]", f"rules[{k}]"))
     # one object bound to many targets by one positional relation
     targets: dict[tuple[str, str], list[int]] = defaultdict(list)
     for k, r in enumerate(plan.rules):
-        if r.rule in _POSITIONAL and r.target is not None:
+        if getattr(_rule(r.rule), "positional", False) and r.target is not None:
             ks = targets[(r.object, r.rule)]
             if r.target not in {plan.rules[j].target for j in ks}:
                 ks.append(k)

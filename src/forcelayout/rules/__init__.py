@@ -36,6 +36,7 @@ from typing import Any, TypeVar
 from forcelayout.errors import UnknownRuleError
 from forcelayout.rules.base import (
     Access,
+    Closeness,
     ParamArrays,
     Rule,
     RuleKind,
@@ -54,6 +55,7 @@ __all__ = [
     "Surface",
     "StartHint",
     "Access",
+    "Closeness",
     "RuleInfo",
     "register",
     "unregister",
@@ -113,8 +115,9 @@ for _mod, _names in _BUILTIN.items():
 class RuleInfo:
     """What the registry says about one rule (for listings and docs).
 
-    ``target``, ``surface``, ``bond``, ``hard`` and ``start`` repeat the rule
-    class's declarations (see :class:`Rule`).
+    ``target``, ``surface``, ``bond``, ``hard``, ``start``, ``positional``,
+    ``closeness``, ``opposite``, ``aliases``, ``feature``, ``specialises`` and
+    ``fallback`` repeat the rule class's declarations (see :class:`Rule`).
     """
 
     name: str
@@ -128,6 +131,13 @@ class RuleInfo:
     bond: bool = False
     hard: bool = False
     start: StartHint | None = None
+    positional: bool = False
+    closeness: Closeness | None = None
+    opposite: str | None = None
+    aliases: tuple[str, ...] = ()
+    feature: str | None = None
+    specialises: tuple[str, ...] = ()
+    fallback: str | None = None
 
 
 def register(
@@ -318,6 +328,8 @@ def describe_rules(pattern: str = "*") -> list[RuleInfo]:
         out.append(
             RuleInfo(n, cls.kind, cls.summary(), (cls.__doc__ or "").strip(),
                      cls.param_info(), float(cls.weight), cls.target, cls.surface,
-                     bool(cls.bond), bool(cls.hard), cls.start)
+                     bool(cls.bond), bool(cls.hard), cls.start, bool(cls.positional),
+                     cls.closeness, cls.opposite, tuple(cls.aliases), cls.feature,
+                     tuple(cls.specialises), cls.fallback)
         )
     return out

@@ -30,6 +30,7 @@ __all__ = [
     "Surface",
     "StartHint",
     "Access",
+    "Closeness",
 ]
 
 #: What a rule relates, for listings: the room ("unary"), a target object ("binary"),
@@ -40,6 +41,8 @@ RuleKind = Literal["unary", "binary", "surface"]
 TargetNeed = Literal["none", "required", "optional"]
 #: Where a rule places its object: on the floor, on its target's top, on a wall, on the ceiling.
 Surface = Literal["floor", "top", "wall", "ceiling"]
+#: Whether a rule keeps its object close to its target or far from it.
+Closeness = Literal["close", "far"]
 
 
 @dataclass(frozen=True)
@@ -366,6 +369,41 @@ class Rule:
     relation : bool
         Whether the relational diversity metric
         (:func:`forcelayout.metrics.relation_triples`) counts the rule.
+    positional : bool
+        Whether the rule places its object at one side of, around or under
+        its target (``in_front_of``, ``facing``, ...): plan findings
+        (:mod:`forcelayout.sanity`) flag an object bound by one positional
+        rule to more than two targets.
+    closeness : {None, "close", "far"}
+        Whether a binding keeps its object close to its target (``next_to``)
+        or far from it (``far_from``). An object both close to and far from
+        one target is a contradiction: plan findings report it and
+        :func:`forcelayout.autofix.autofix` drops the ``"far"`` rule.
+    opposite : str, optional
+        The registered rule that contradicts this one on the same object and
+        target (``in_front_of`` and ``behind``; ``at_wall`` and
+        ``in_middle``). The relation is symmetric: declaring it on one of
+        the two rules is enough.
+    aliases : tuple of str
+        Near-miss names that mean this rule (``"beside"`` for ``next_to``),
+        in snake case; :func:`forcelayout.autofix.autofix` reads an unknown
+        rule name as the rule declaring it (a name two rules declare is
+        ambiguous and left alone). Not inherited: a subclass registered
+        under another name declares its own.
+    feature : str, optional
+        The feature of the room the rule relates its object to: ``"door"``,
+        ``"window"``, ``"wall"``, ``"corner"`` (a word a plan may use as a
+        target by mistake).
+    specialises : tuple of str
+        Target rules that, aimed at the room's ``feature`` rather than at an
+        object (``near`` with target ``"window"``), mean this rule
+        (``near_window``); :func:`forcelayout.autofix.autofix` rewrites them.
+        Needs ``feature``.
+    fallback : str, optional
+        The rule a binding becomes when the room cannot hold every binding
+        of this one. Rules whose ``start.place`` is ``"corner"`` are limited
+        by the floor's convex corners; the autofix turns the extra ones into
+        their ``fallback`` (``in_corner`` -> ``at_wall``).
     weight : float
         Default strength (dimensionless multiplier on the force). The paper's
         order is repulsion > hard placement (``at_wall``) > soft relations
@@ -395,6 +433,13 @@ class Rule:
     access: ClassVar[Access | None] = None
     hard: ClassVar[bool] = False
     relation: ClassVar[bool] = False
+    positional: ClassVar[bool] = False
+    closeness: ClassVar[Closeness | None] = None
+    opposite: ClassVar[str | None] = None
+    aliases: ClassVar[tuple[str, ...]] = ()
+    feature: ClassVar[str | None] = None
+    specialises: ClassVar[tuple[str, ...]] = ()
+    fallback: ClassVar[str | None] = None
     weight: ClassVar[float] = 1.0
     reaction: ClassVar[float] = 0.0
 
@@ -422,6 +467,25 @@ class Rule:
             raise TypeError(f"{cls.__qualname__}.start must be a StartHint or None")
         if cls.access is not None and not isinstance(cls.access, Access):
             raise TypeError(f"{cls.__qualname__}.access must be an Access or None")
+        if cls.closeness not in (None, "close", "far"):
+            raise TypeError(f"{cls.__qualname__}.closeness must be None, 'close' or 'far', got "
+                            f"{cls.closeness!r}")
+        for attr in ("opposite", "feature", "fallback"):
+            value = getattr(cls, attr)
+            if value is not None and not (isinstance(value, str) and value.isidentifier()):
+                raise TypeError(f"{cls.__qualname__}.{attr} must be None or a name such as "
+                                f"'behind', got {value!r}")
+        cls.aliases = own.get("aliases", ())  # names are not inherited
+        for attr in ("aliases", "specialises"):
+            value = getattr(cls, attr)
+            if isinstance(value, str) or not all(isinstance(v, str) and v.isidentifier()
+                                                 for v in value):
+                raise TypeError(f"{cls.__qualname__}.{attr} must be a tuple of names such as "
+                                f"('beside',), got {value!r}")
+            setattr(cls, attr, tuple(value))
+        if cls.specialises and cls.feature is None:
+            raise TypeError(f"{cls.__qualname__}: specialises needs feature (the room feature "
+                            "a target rule aimed at it means this rule for)")
         cls.kind = ("surface" if cls.surface != "floor"
                     else "binary" if cls.target == "required" else "unary")
 

@@ -74,6 +74,9 @@ class _Distance(Rule):
 class NextTo(_Distance):
     """Beside the target: footprint gap at most `distance` metres."""
 
+    aliases = ("beside", "adjacent", "adjacent_to")
+    closeness = "close"
+
     bond = True
     relation = True
     start = StartHint(place="beside", parent=0)
@@ -91,6 +94,9 @@ class NextTo(_Distance):
 
 class Near(_Distance):
     """Near the target: footprint gap at most `distance` metres (a soft relation)."""
+
+    aliases = ("close_to", "nearby")
+    closeness = "close"
 
     relation = True
     start = StartHint(parent=6)
@@ -111,6 +117,9 @@ class FarFrom(Rule):
 
     Both objects are pushed apart (``reaction`` 0.5).
     """
+
+    aliases = ("away_from", "far")
+    closeness = "far"
 
     target = "required"
     weight = 1.0
@@ -149,6 +158,9 @@ class Facing(Rule):
     its target along that wall; large misses also turn the object. A blocked
     view slides the object sideways, away from the blocker.
     """
+
+    aliases = ("faces", "face", "facing_towards")
+    positional = True
 
     target = "required"
     relation = True
@@ -223,6 +235,8 @@ class _Side(Rule):
     """
 
     target = "required"
+    closeness = "close"
+    positional = True
     weight = 1.5
     reaction = 0.3
 
@@ -282,6 +296,9 @@ class InFrontOf(_Side):
     target's half width plus ``lateral`` of its centre line.
     """
 
+    aliases = ("in_front", "front_of")
+    opposite = "behind"
+
     _sign, _front = 1.0, True
     bond = True
     start = StartHint(place="front", parent=2)
@@ -295,6 +312,8 @@ class Behind(_Side):
     target's half width plus ``lateral`` of its centre line.
     """
 
+    aliases = ("behind_of",)
+
     _sign, _front = -1.0, True
     start = StartHint(place="back", parent=3)
 
@@ -306,6 +325,9 @@ class LeftOf(_Side):
     the footprint gap is at most ``distance``, and the centre is within the
     target's half depth plus ``lateral`` of its side-to-side centre line.
     """
+
+    aliases = ("left",)
+    opposite = "right_of"
 
     _sign, _front = -1.0, False
     start = StartHint(place="left", parent=4)
@@ -319,6 +341,8 @@ class RightOf(_Side):
     target's half depth plus ``lateral`` of its side-to-side centre line.
     """
 
+    aliases = ("right",)
+
     _sign, _front = 1.0, False
     start = StartHint(place="right", parent=5)
 
@@ -331,6 +355,9 @@ class AlignedWith(Rule):
     metres of the target's front-back or left-right centre line (whichever
     is nearer), e.g. a row of shelves or a lamp lined up with a sofa.
     """
+
+    aliases = ("aligned", "align_with")
+    positional = True
 
     target = "required"
     start = StartHint(turn="target_heading", parent=7)
@@ -374,6 +401,9 @@ class Around(Rule):
     object's front. Besides pulling each object in and turning it, the force
     spreads the objects bound around the same target evenly around it.
     """
+
+    closeness = "close"
+    positional = True
 
     target = "required"
     bond = True
@@ -420,6 +450,10 @@ class Under(Rule):
     force pulls the object's centre under the target's and squares it with
     the target; the target is not moved.
     """
+
+    aliases = ("underneath", "below")
+    closeness = "close"
+    positional = True
 
     target = "required"
     bond = True

@@ -85,6 +85,9 @@ class OnTop(_SurfaceRule):
     the target's ``z`` plus its height.
     """
 
+    aliases = ("on", "on_top_of", "ontop")
+    closeness = "close"
+
     surface = "top"
     target = "required"
     bond = True
@@ -116,6 +119,8 @@ class OnWall(_SurfaceRule):
     within the wall's length, and its height band holds. ``wall`` pins the
     wall; by default any wall with a free stretch wide enough is used.
     """
+
+    aliases = ("hang_on_wall",)
 
     surface = "wall"
     relation = True
@@ -202,6 +207,8 @@ class OnCeiling(_SurfaceRule):
     a functional area; the light is then centred over that area's objects
     (such bindings are placed but not judged).
     """
+
+    aliases = ("ceiling",)
 
     surface = "ceiling"
     target = "optional"

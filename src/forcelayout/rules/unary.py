@@ -54,6 +54,11 @@ class AtWall(Rule):
     torque turns its back to that wall.
     """
 
+    aliases = ("against_wall", "wall", "by_wall", "near_wall")
+    opposite = "in_middle"
+    feature = "wall"
+    specialises = ("near", "next_to")
+
     hard = True
     relation = True
     start = StartHint(place="wall")
@@ -122,6 +127,12 @@ class InCorner(Rule):
     it up with the corner's walls.
     """
 
+    aliases = ("corner", "at_corner")
+    opposite = "in_middle"
+    feature = "corner"
+    specialises = ("near", "next_to")
+    fallback = "at_wall"  # the extra ones when the room has too few corners
+
     hard = True
     relation = True
     start = StartHint(place="corner")
@@ -162,6 +173,8 @@ class InMiddle(Rule):
     separately). For L-shaped rooms the centroid may lie near the inner
     corner. The force pulls the centre towards the centroid.
     """
+
+    aliases = ("center", "centre", "in_center", "in_centre", "middle")
 
     relation = True
     start = StartHint(place="middle")
@@ -232,6 +245,10 @@ class NearWindow(_NearOpening):
     Never satisfied in a room without windows (and then applies no force).
     """
 
+    aliases = ("by_window",)
+    feature = "window"
+    specialises = ("near", "next_to", "facing")
+
     _openings = "windows"
     start = StartHint(place="window")
 
@@ -243,6 +260,11 @@ class NearDoor(_NearOpening):
     always-on door clearance still keeps the door's swing square free.
     """
 
+    aliases = ("by_door",)
+    opposite = "away_from_door"
+    feature = "door"
+    specialises = ("near", "next_to")
+
     _openings = "doors"
     start = StartHint(place="door")
 
@@ -253,6 +275,9 @@ class AwayFromDoor(Rule):
     Always satisfied in a room without doors. The force pushes the object
     away from the nearest door that is too close.
     """
+
+    feature = "door"
+    specialises = ("far_from",)
 
     weight = 1.5
 

@@ -27,6 +27,8 @@ class NearPlant(Rule):
     target = "required"  # every binding names the plant
     start = StartHint(parent=6)  # start near the plant (a weak bond, like `near`)
     relation = True  # counted by the relational diversity metric
+    closeness = "close"  # keeps the object close: contradicts far_from the same plant
+    aliases = ("by_plant",)  # a near-miss name the plan autofix reads as this rule
     weight = 1.0  # a soft relation: weaker than at_wall (3.0) and physical repulsion
 
     class Params(Rule.Params):

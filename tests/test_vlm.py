@@ -111,26 +111,25 @@ def test_replies_that_are_no_verdict_raise_after_the_retries(layout):
 def test_the_loop_marks_refusals_errors_and_slow_replies_unjudged_and_goes_on(caplog):
     caplog.set_level(logging.DEBUG)
     script = [
-        {"refusal": "I'm unable to judge images."}, {"refusal": "Still unable."},  # sample 1
-        {"status": 500, "message": "upstream crashed"},                            # sample 2
-        {"content": YES, "delay": 2.0},                                            # sample 4
-        "not json at all", "{still not",                                           # sample 5
-        NO,                                                                        # sample 7
-        YES,                                                                       # sample 8
+        {"refusal": "I'm unable to judge images."}, {"refusal": "Still unable."},  # 1st judged
+        {"status": 500, "message": "upstream crashed"},                            # 2nd
+        {"content": YES, "delay": 2.0},                                            # 3rd
+        "not json at all", "{still not",                                           # 4th
+        NO,                                                                        # 5th
+        YES,                                                                       # 6th
     ]
     with FakeChatServer(script) as srv:
         judge = judge_for(srv, timeout=0.5)
         run = generate_validated(PLAN, 1, 20, judge=judge, seed=0)
         headers = srv.headers
-    statuses = [(c.index, c.status) for c in run.candidates if c.status != "invalid"]
-    assert statuses == [(1, "unjudged"), (2, "unjudged"), (4, "unjudged"), (5, "unjudged"),
-                        (7, "implausible"), (8, "accepted")]
-    reasons = {c.index: c.reason for c in run.candidates}
-    assert "refusal" in reasons[1]
-    assert "HTTP 500" in reasons[2] and "upstream crashed" in reasons[2]
-    assert "no reply within 0.5 s" in reasons[4]
-    assert "not valid JSON" in reasons[5] or "no JSON object" in reasons[5]
-    assert reasons[7].startswith("the desk chair faces the wall")
+    judged = [c for c in run.candidates if c.status != "invalid"]  # those the judge saw
+    assert [c.status for c in judged] == ["unjudged"] * 4 + ["implausible", "accepted"]
+    reasons = [c.reason for c in judged]
+    assert "refusal" in reasons[0]
+    assert "HTTP 500" in reasons[1] and "upstream crashed" in reasons[1]
+    assert "no reply within 0.5 s" in reasons[2]
+    assert "not valid JSON" in reasons[3] or "no JSON object" in reasons[3]
+    assert reasons[4].startswith("the desk chair faces the wall")
     assert run.summary()["rejection_reasons"]["unjudged"] == 4
     assert run.judged == 2 and run.acceptance_rate == 0.5 and run.judge == "vlm:fake-vl"
     # the key goes to the server and nowhere else
@@ -156,10 +155,11 @@ def test_a_run_is_recorded_and_replayed_without_a_server(tmp_path):
         other(fl.solve(PLAN, fl.sampling.sample_seed(0, 1)))
 
 
-def test_a_server_without_structured_output_is_asked_for_json_in_text(layout):
+def test_a_server_without_json_schema_is_asked_for_a_json_object(layout):
     with FakeChatServer([YES], json_schema=False) as srv:
         assert judge_for(srv, structured="auto")(layout).plausible
-        assert "response_format" not in srv.requests[0]
+        # the client steps down to the next mode the server takes (json_object with the schema)
+        assert srv.requests[0].get("response_format", {}).get("type") == "json_object"
 
 
 def test_an_unreachable_server_is_a_request_error(layout):

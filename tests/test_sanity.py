@@ -201,7 +201,7 @@ def plant_rules():
     classes = {
         "hug_plant": type("HugPlant", (Rule,), {
             "__doc__": "Close to a plant.", "target": "required", "closeness": "close",
-            "positional": True, "aliases": ("by_plant",), **body}),
+            "positional": True, "aliases": ("by_the_greenery",), **body}),
         "shun_plant": type("ShunPlant", (Rule,), {
             "__doc__": "Away from a plant.", "target": "required", "opposite": "hug_plant",
             **body}),
@@ -245,18 +245,18 @@ def test_plugin_declarations_drive_the_findings(plant_rules):
 def test_plugin_declarations_drive_the_autofix(plant_rules):
     import forcelayout.autofix as af
 
-    assert af.rule_aliases()["by_plant"] == "hug_plant"
+    assert af.rule_aliases()["by_the_greenery"] == "hug_plant"
     assert af.RULE_ALIASES["beside"] == "next_to"
     data = {"name": "den", "room": ROOM,
             "objects": [obj("ficus", "plant", (0.5, 0.5, 1.4)), obj("chair"),
                         *(obj(f"box_{k}", "box", (0.3, 0.3, 0.3)) for k in range(5))],
-            "rules": [{"rule": "by plant", "object": "chair", "target": "ficus"},
+            "rules": [{"rule": "by the greenery", "object": "chair", "target": "ficus"},
                       {"rule": "far_from", "object": "ficus", "target": "chair"},
                       {"rule": "near", "object": "chair", "target": "the fireplace"},
                       *({"rule": "in a nook", "object": f"box_{k}"} for k in range(5))]}
     fixed, notes = autofix(data)
     text = "\n".join(notes)
-    assert "rules[0].rule: 'by plant' read as 'hug_plant'" in text
+    assert "rules[0].rule: 'by the greenery' read as 'hug_plant'" in text
     assert "removed far_from 'chair', which contradicts a rule that keeps them close" in text
     assert "near 'the fireplace' read as by_fireplace" in text
     assert "nook -> at_wall (the room has 4 convex corners for 5 nook objects)" in text
@@ -269,12 +269,12 @@ def test_an_alias_two_rules_declare_is_left_alone(plant_rules):
     from forcelayout.autofix import rule_aliases
     from forcelayout.rules import register, unregister
 
-    other = type("ByPlant", (plant_rules["hug_plant"],), {"aliases": ("by_plant",)})
+    other = type("ByPlant", (plant_rules["hug_plant"],), {"aliases": ("by_the_greenery",)})
     register("hold_plant", other)
     try:
-        assert "by_plant" not in rule_aliases()
-        fixed, _ = autofix({"rules": [{"rule": "by_plant", "object": "a", "target": "b"}]})
-        assert fixed["rules"][0]["rule"] == "by_plant"
+        assert "by_the_greenery" not in rule_aliases()
+        fixed, _ = autofix({"rules": [{"rule": "by_the_greenery", "object": "a", "target": "b"}]})
+        assert fixed["rules"][0]["rule"] == "by_the_greenery"
     finally:
         unregister("hold_plant")
 
@@ -291,7 +291,7 @@ def test_declarations_are_checked_and_listed(plant_rules):
     with pytest.raises(TypeError, match="specialises needs feature"):
         type("Bad", (Rule,), {"specialises": ("near",)})
     info = describe_rules("hug_plant")[0]
-    assert (info.aliases, info.closeness, info.positional) == (("by_plant",), "close", True)
+    assert (info.aliases, info.closeness, info.positional) == (("by_the_greenery",), "close", True)
     built_in = {i.name: i for i in describe_rules()}
     assert built_in["in_front_of"].opposite == "behind"
     assert built_in["near_door"].feature == "door"

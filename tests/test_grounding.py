@@ -421,6 +421,8 @@ def test_generate_and_dataset_take_assets(library_dir, tmp_path, capsys):
     assert fl.Plan.load(tmp_path / "d" / "bedroom" / "plan.json").object("bed").asset
     # the dataset's exports place the library's meshes, not boxes
     assert 'mesh="mesh/bed"' in (tmp_path / "d" / "bedroom" / "bedroom_000.xml").read_text()
+    (entry,) = [json.loads(line) for line in (tmp_path / "d" / "index.jsonl").open()]
+    assert entry["files"] == ["bedroom_000.json", "bedroom_000.xml", "bedroom_000_meshes"]
     manifest = json.loads((tmp_path / "d" / "dataset.json").read_text())
     assert len(manifest["assets"]) == 64  # the library's metadata hash
 

@@ -114,7 +114,8 @@ def write_exports(
     Returns
     -------
     list of Path
-        The files (the folder for ``habitat``) written, in the order of ``formats``.
+        The files (the folder for ``habitat``, and the ``<stem>_meshes`` folder of
+        the STL files an MJCF with assets names) written, in the order of ``formats``.
 
     Raises
     ------
@@ -143,4 +144,7 @@ def write_exports(
             with atomic_dir(path) as tmp:
                 export_habitat(layout, tmp, movable=movable, assets=assets)
         written.append(path)
+        meshes = path.parent / f"{path.stem}_meshes"  # the STL files an MJCF file names
+        if fmt == "mjcf" and assets and meshes.is_dir():
+            written.append(meshes)
     return written

@@ -34,7 +34,8 @@ POOL = re.compile(r"ProcessPoolExecutor\(\s*(?:max_workers\s*=\s*)?(\d*)")
 INDEX_LINE_KEYS = {"plan", "layout", "sample", "seed", "files", "rule_satisfaction",
                    "rejected_before", "checks"}
 #: Blocks that need a cluster: a scheduler queue, Ray, or more local workers than CI has.
-CLUSTER = re.compile(r"SLURMCluster|ray\.init|LocalCluster\(n_workers=([3-9]|\d\d)")
+CLUSTER = re.compile(r"SLURMCluster|^\s*(?:import|from) ray\b|LocalCluster\(n_workers=([3-9]|\d\d)",
+                     re.M)
 
 #: Modules and subpackages whose ``__all__`` docs/api.md must cover.
 PUBLIC_MODULES = (
@@ -136,7 +137,7 @@ def test_code_blocks_run(page: Path, tmp_path: Path, monkeypatch: pytest.MonkeyP
 
     blocks = python_blocks(page)
     if all(skip_reason(code) for _, code in blocks):
-        pytest.skip(f"{page.name}: every block needs an endpoint or many cores")
+        pytest.skip(f"{page.name}: every block needs an endpoint, many cores or a cluster")
     monkeypatch.chdir(tmp_path)
     ran = 0
     for line, code in blocks:
@@ -163,6 +164,9 @@ def test_skip_rules():
     assert skip_reason("LocalCluster(n_workers=8)") == "starts a cluster"
     assert skip_reason("LocalCluster(n_workers=2)") is None
     assert skip_reason("cluster = SLURMCluster(cores=32)") == "starts a cluster"
+    assert skip_reason("from ray.util.concurrent.futures import RayExecutor") == "starts a cluster"
+    assert skip_reason("import forcelayout\nimport ray\n") == "starts a cluster"
+    assert skip_reason("x = array  # no ray here") is None
 
 
 def _public_names() -> list[tuple[str, str]]:

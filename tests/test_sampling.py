@@ -265,3 +265,15 @@ def test_the_same_sample_writes_the_same_bytes(tmp_path):
     assert '"seconds"' not in a and '"stages"' not in a
     plan = fl.load_plan("bedroom")
     assert fl.Layout.from_json(a, plan).poses == fl.Layout.from_json(b, plan).poses
+
+
+def test_a_duplicate_sample_says_so():
+    import forcelayout as fl
+    from forcelayout.sampling import DistinctLayouts
+
+    # every layout lies within 100 m of every other: only the first valid one is accepted
+    result = fl.generate("home_office", 2, seed=0, distinct_tol=100.0, max_attempts=4)
+    assert len(result) == 1
+    dups = [r for r in result.rejected if DistinctLayouts.FAILURE in r.failures]
+    assert dups and all(r.valid for r in dups)
+    assert result.summary()["failure_reasons"]["duplicate"] == len(dups)

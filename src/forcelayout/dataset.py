@@ -640,8 +640,7 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int, what: _File
                     break
             else:
                 if lay.report.valid:
-                    lay.report.failures.append("duplicate: within distinct_tol of an accepted "
-                                               "layout")
+                    lay.report.failures.append(DistinctLayouts.FAILURE)
                 reports.append(lay.report)
         commit(block=True)
     finally:

@@ -327,6 +327,9 @@ class DistinctLayouts:
     (True, False)
     """
 
+    #: The failure a sample that duplicates an accepted layout is given.
+    FAILURE = "duplicate: within distinct_tol of an accepted layout"
+
     def __init__(self, tol: float, dims: int = 4):
         self.tol, self.dims = float(tol), int(dims)
         self._cells: dict[tuple, list[np.ndarray]] = {}
@@ -569,8 +572,7 @@ def generate(
                 if len(accepted) >= n:
                     break
             else:
-                lay.report.failures.append("duplicate: within distinct_tol of an "
-                                           "accepted layout")
+                lay.report.failures.append(DistinctLayouts.FAILURE)
     finally:
         samples.close()  # samples still running are cancelled, not waited for
         if bar is not None:

@@ -515,7 +515,7 @@ def generate_validated(
                 result.candidates.append(Candidate(k, lay, "invalid", _one_line(reason)))
                 continue
             if not seen.is_new(lay):
-                report.failures.append("duplicate: within distinct_tol of an accepted layout")
+                report.failures.append(DistinctLayouts.FAILURE)
                 result.candidates.append(Candidate(k, lay, "duplicate", report.failures[-1]))
                 continue
             j = judge_layout(judge, lay, timeout=judge_timeout)

@@ -191,3 +191,19 @@ def test_generate_writes_each_layout_as_it_is_accepted(tmp_path, monkeypatch, ca
     assert "interrupted: 2 layouts written" in capsys.readouterr().err
     assert sorted(p.name for p in out.glob("bedroom_*")) == [
         "bedroom_000.json", "bedroom_000.png", "bedroom_001.json", "bedroom_001.png"]
+
+
+def test_input_errors_of_every_kind_are_one_line_with_status_2(tmp_path, capsys):
+    from forcelayout.dataset import DatasetError
+    from forcelayout.errors import InputError, PlanError
+
+    assert issubclass(PlanError, InputError) and issubclass(DatasetError, InputError)
+    pytest.importorskip("trimesh")
+    from forcelayout.grounding import AssetLibraryError
+
+    assert issubclass(AssetLibraryError, InputError)
+    assert main(["dataset", "bedroom", "-n", "1", "--out", str(tmp_path / "d"), "--quiet",
+                 "--assets", str(tmp_path / "no_library")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1] == f"error: asset library '{tmp_path / 'no_library'}' is not a folder"
+    assert not any("Traceback" in line or "--debug" in line for line in err)

@@ -210,14 +210,12 @@ def _missing(extra: str) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
-    from forcelayout.dataset import DatasetError
-    from forcelayout.errors import MissingExtraError, PlanError, UnknownRuleError
+    from forcelayout.errors import InputError, MissingExtraError, UnknownRuleError
 
     args = build_parser().parse_args(argv)
     try:
         return int(args.func(args) or 0)
-    except (PlanError, UnknownRuleError, MissingExtraError, FileNotFoundError,
-            DatasetError) as e:
+    except (InputError, UnknownRuleError, MissingExtraError, FileNotFoundError) as e:
         if args.debug:
             raise
         print(f"error: {e}", file=sys.stderr)

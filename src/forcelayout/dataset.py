@@ -56,6 +56,7 @@ from typing import Any
 
 from forcelayout._atomic import TMP_MARK, atomic_path, write_text
 from forcelayout.diagnose import FeasibilityWarning, dominant_cause
+from forcelayout.errors import InputError
 from forcelayout.layout import Layout, SampleReport
 from forcelayout.options import Options
 from forcelayout.plan import Plan
@@ -87,7 +88,7 @@ FORMAT = "forcelayout-dataset/1"
 MANIFEST, INDEX, RUN_LOG, SUMMARY = "dataset.json", "index.jsonl", "run.log", "summary.json"
 
 
-class DatasetError(ValueError):
+class DatasetError(InputError, ValueError):
     """The dataset cannot be made as asked (a folder of another run, clashing plan names, ...)."""
 
 

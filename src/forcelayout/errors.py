@@ -8,7 +8,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["Problem", "PlanError", "UnknownRuleError", "MissingExtraError"]
+__all__ = ["Problem", "InputError", "PlanError", "UnknownRuleError", "MissingExtraError"]
+
+
+class InputError(Exception):
+    """Marks an error in what the user gave (a file, a folder, an argument), not in the library.
+
+    The command line shows such an error as one ``error:`` line and exits
+    with status 2; other exceptions count as unexpected. Optional
+    subpackages mark their input errors with it too (e.g.
+    ``forcelayout.grounding.AssetLibraryError``).
+    """
 
 
 @dataclass(frozen=True)
@@ -30,7 +40,7 @@ class Problem:
         return f"{self.path}: {self.message}" if self.path else self.message
 
 
-class PlanError(ValueError):
+class PlanError(InputError, ValueError):
     """A plan that cannot be simulated; lists every problem found at once.
 
     Parameters

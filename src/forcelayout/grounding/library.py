@@ -33,6 +33,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from forcelayout._optional import import_optional
+from forcelayout.errors import InputError
 
 trimesh = import_optional("trimesh", "grounding")
 
@@ -48,7 +49,7 @@ INDEX_FOLDER = ".forcelayout-index"
 _UNITS = {"m": 1.0, "cm": 0.01}
 
 
-class AssetLibraryError(ValueError):
+class AssetLibraryError(InputError, ValueError):
     """An asset library that cannot be used; the message lists every problem found."""
 
 

@@ -26,7 +26,8 @@ the bodies.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -266,6 +267,16 @@ class ForceModel:
             raise TypeError("a force term is a callable term(state, temperature) -> (F, tau) "
                             f"with a boolean attribute 'annealed'; got {term!r}")
         self.terms.append(term)
+
+    @contextmanager
+    def without(self, *kinds: type) -> Iterator[None]:
+        """Leave out the terms of the given classes while the ``with`` block runs."""
+        kept = self.terms
+        self.terms = [t for t in kept if not isinstance(t, kinds)]
+        try:
+            yield
+        finally:
+            self.terms = kept
 
     def state(self, pos: np.ndarray, yaw: np.ndarray) -> State:
         """A :class:`State` of these objects at the given poses."""

@@ -270,7 +270,9 @@ def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r) -> np.ndarray:
         # centres of the wall object clear of the opening: beyond this distance from its centre
         reach = win.width[None] * 0.5 + 0.05 + 0.5 * wants.wall_above
         blocked = (along - extent > -reach) & (along + extent < reach)
-        unmet += (blocked & (off < half_r.max() + 0.3)).any(1)
+        # only an opening in the wall the candidate stands against counts
+        same_wall = (fwd[:, None] * win.normal[None]).sum(2) > 0.9
+        unmet += (blocked & same_wall & (off < half_r.max() + 0.3)).any(1)
     return unmet
 
 
@@ -336,13 +338,14 @@ def initial_poses(
     """Random start poses that already lean towards the rules; the best of ``restarts``.
 
     Draws up to ``restarts`` independent starts with :func:`propose_poses` and
-    keeps the one that meets the most of the model's rules (the first on
-    ties); the first that meets them all and passes the deterministic checks
-    ends the search at once. So
-    a bed that landed in a corner with no room for its second nightstand is
-    tried elsewhere before any simulation time is spent on it.
+    keeps the one with the most rules met less checks failed (the first on
+    ties); the first that meets every rule and passes every deterministic
+    check ends the search at once. So a bed that landed in a corner with no
+    room for its second nightstand, or a sofa that can only face its TV from
+    in front of a window, is tried elsewhere before any simulation time is
+    spent on it.
     """
-    best, best_score = None, -1.0
+    best, best_score = None, -np.inf
     placer = _Placer(model) if model.n else None
     for _ in range(max(1, restarts)):
         pos = np.zeros((model.n, 2))
@@ -350,18 +353,18 @@ def initial_poses(
         if placer is not None:
             pos, yaw = _propose(model, placer, rng, pos, yaw, tries, spread)
         met = model.satisfied(model.state(pos, yaw))
-        score = float(sum(met.values()))
-        if score == len(met):  # every rule met: take it if it also passes the checks
-            if _passes_checks(model, pos, yaw):
-                return pos, yaw
-            score -= 0.5
+        failed = _check_failures(model, pos, yaw)
+        if failed == 0 and all(met.values()):
+            return pos, yaw
+        # a failed check (a wardrobe in front of a window) is as bad as an unmet rule
+        score = float(sum(met.values())) - failed
         if score > best_score:
             best, best_score = (pos, yaw), score
     return best  # type: ignore[return-value]
 
 
-def _passes_checks(model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> bool:
-    """Whether start poses already pass the deterministic checks (floor objects only).
+def _check_failures(model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> int:
+    """How many deterministic checks start poses fail (floor objects only).
 
     Rows that are not objects of the plan (an area's rectangle) are not
     judged here: their members are checked once the area is carried into the
@@ -369,10 +372,10 @@ def _passes_checks(model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> bool:
     """
     known = set(model.plan.ids)
     if not all(oid in known for oid in model.ids):
-        return True
+        return 0
     poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
              for oid, p, y in zip(model.ids, pos, yaw, strict=True)}
-    return check_layout(Layout(model.plan, poses)).ok
+    return len(check_layout(Layout(model.plan, poses)).failures)
 
 
 def propose_poses(
@@ -470,7 +473,8 @@ class _Placer:
                    solid: list[int], slack: np.ndarray, pos: np.ndarray, yaw: np.ndarray,
                    doors: bool) -> tuple[np.ndarray, np.ndarray]:
         """Whether footprints of half extent ``ext`` at the candidates lie inside the floor,
-        and their clearance (at most 0.3 m) to the ``solid`` rows and the door zones."""
+        and their clearance (at most 0.3 m) to the ``solid`` rows and the door swing squares
+        (what the door check asks; the simulation keeps a deeper entry zone free)."""
         hr, hf = rgt * ext[0], fwd * ext[1]
         corners = np.stack([cand - hr - hf, cand + hr - hf, cand + hr + hf, cand - hr + hf],
                            axis=1)
@@ -486,12 +490,27 @@ class _Placer:
                                      self.half[solid][None])
             # objects this one is related to may stand right beside it
             clear = np.minimum(clear, (sep + slack[None, :]).min(axis=1))
-        dc, dr, df, dh = self.room.door_zones
+        dc, dr, df, dh = self.room.door_squares
         if len(dc) and doors:
             dsep = geo.obb_separation(dc[None] - cand[:, None], rgt[:, None], fwd[:, None],
                                       ext[None, None], dr[None], df[None], dh[None])
             clear = np.minimum(clear, dsep.min(axis=1))
         return inside, clear
+
+    def _side_partners(self, r: int, parent: int, placed: list[int]) -> list[int]:
+        """Placed rows that a side-by-side binding (start place ``beside``) ties to ``r``,
+        either way round, other than its parent."""
+        done = set(placed)
+        out: list[int] = []
+        for g, b in self.by_object[r]:
+            hint = g.rule.start
+            if g.j is None or hint is None or hint.place not in _SIDE_PLACES:
+                continue
+            i, j = int(g.i[b]), int(g.j[b])
+            other = j if i == r else i
+            if other != parent and other in done and other not in out:
+                out.append(other)
+        return out
 
     def place(self, r: int, placed: list[int], pos: np.ndarray, yaw: np.ndarray,
               rng: np.random.Generator, tries: int, spread: float) -> None:
@@ -523,6 +542,14 @@ class _Placer:
             cand = room.centroid + rng.normal(0.0, 0.3, (tries, 2))
         else:
             cand = rng.uniform(lo, hi, (tries, 2))
+        # beside the placed objects it should stand beside other than its parent
+        # (the second bed beside the nightstand that already stands by the first)
+        for p in self._side_partners(r, q, placed)[:2]:
+            wp = _Wants(places={"beside"} | (places & {"wall"}), turns=w.turns)
+            more, more_yaw = _child_candidates(room, rng, tries // 2, wp, p, r, pos, yaw, half,
+                                               radius, spread)
+            cand = np.concatenate([cand, more])
+            cyaw = np.concatenate([cyaw, more_yaw])
         # fall-backs after the proposals: anywhere at a wall for objects that
         # belong at one, anywhere in the room for the rest
         extra = tries // 2

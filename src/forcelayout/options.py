@@ -46,6 +46,13 @@ class SolverConfig:
         between (multiple time stepping: the slow, soft semantic terms are
         sampled less often than the stiff physical ones, which are computed
         every step). 1 recomputes everything every step.
+    settle_steps : int
+        A start that already passes every check and meets every rule is
+        first settled for at most this many steps by the rules and the
+        physical terms alone (squared up, pressed to its walls), without the
+        walking-room and access terms that would rearrange it; the full
+        simulation runs only if that leaves a check failed or a rule unmet.
+        0 always runs the full simulation.
     """
 
     k: float = 0.02
@@ -62,6 +69,7 @@ class SolverConfig:
     velocity_iterations: int = 6
     position_iterations: int = 3
     semantic_interval: int = 2
+    settle_steps: int = 80
 
     def __post_init__(self) -> None:
         if self.max_steps < 1 or self.min_steps < 0 or self.patience < 1:
@@ -70,6 +78,8 @@ class SolverConfig:
             raise ValueError("SolverConfig: k >= 0, dt > 0 and mobility > 0")
         if self.semantic_interval < 1:
             raise ValueError("SolverConfig: semantic_interval >= 1")
+        if self.settle_steps < 0:
+            raise ValueError("SolverConfig: settle_steps >= 0")
 
 
 @dataclass(frozen=True)

@@ -11,18 +11,19 @@ the reason, never dropped silently.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from forcelayout.forces import ForceModel
+from forcelayout.access import AccessTerm
+from forcelayout.forces import ForceModel, PassageTerm
 from forcelayout.hierarchy import sample_floor, scene_graph
 from forcelayout.initial import initial_poses
 from forcelayout.layout import Pose
 from forcelayout.options import Options
 from forcelayout.plan import Plan
-from forcelayout.repair import repair_floor
-from forcelayout.solver import simulate
+from forcelayout.repair import judge_floor, repair_floor
+from forcelayout.solver import SimulationResult, simulate
 from forcelayout.surfaces import check_surfaces, place_surfaces
 
 __all__ = ["Placement", "realise", "prepare"]
@@ -77,17 +78,49 @@ def prepare(plan: Plan) -> None:
     _PREPARED[id(plan)] = plan
 
 
+def _settled_start(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, opts: Options
+                   ) -> tuple[SimulationResult | None, int]:
+    """Settle a start that passes every check and meets every rule, if it stays so.
+
+    Only the rules and the physical terms act (``SolverConfig.settle_steps``
+    steps at most): they square the objects up and press them to their
+    walls, where the walking-room and access terms of the full simulation
+    would rearrange an arrangement that needs no rearranging. Returns the
+    settled result (``None`` if the start or the settled arrangement fails)
+    and the steps spent.
+    """
+    cfg = opts.solver
+    if cfg.settle_steps <= 0 or not model.n or not opts.relations:
+        return None, 0
+    if not judge_floor(model, pos, yaw, opts.check_kwargs).ok:
+        return None, 0
+    with model.without(PassageTerm, AccessTerm):
+        res = simulate(model, pos, yaw, replace(cfg, max_steps=cfg.settle_steps,
+                                                min_steps=min(cfg.min_steps,
+                                                              cfg.settle_steps)))
+    if judge_floor(model, res.pos, res.yaw, opts.check_kwargs).ok:
+        return res, res.steps
+    return None, res.steps
+
+
 def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options
                 ) -> tuple[dict[str, Pose], int, bool, list[str]]:
     model = ForceModel(plan, relations=opts.relations)
     pos0, yaw0 = initial_poses(model, rng)
-    res = simulate(model, pos0, yaw0, opts.solver)
-    pos, yaw, steps, repairs = res.pos, res.yaw, res.steps, []
-    if opts.repair > 0 and model.n:
-        pos, yaw, extra, repairs = repair_floor(model, pos, yaw, opts.solver, rounds=opts.repair,
-                                                check_kwargs=opts.check_kwargs, rng=rng)
-        steps += extra
-        yaw = (yaw + np.pi) % (2 * np.pi) - np.pi
+    res, steps = _settled_start(model, pos0, yaw0, opts)
+    repairs: list[str] = []
+    if res is None:
+        res = simulate(model, pos0, yaw0, opts.solver)
+        steps += res.steps
+        pos, yaw = res.pos, res.yaw
+        if opts.repair > 0 and model.n:
+            pos, yaw, extra, repairs = repair_floor(model, pos, yaw, opts.solver,
+                                                    rounds=opts.repair,
+                                                    check_kwargs=opts.check_kwargs, rng=rng)
+            steps += extra
+            yaw = (yaw + np.pi) % (2 * np.pi) - np.pi
+    else:
+        pos, yaw = res.pos, res.yaw
     poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
              for oid, p, y in zip(model.ids, pos, yaw, strict=True)}
     return poses, steps, res.converged, repairs

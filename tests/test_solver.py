@@ -95,3 +95,25 @@ def test_solver_config_rejects_nonsense():
         SolverConfig(max_steps=0)
     with pytest.raises(ValueError):
         SolverConfig(dt=0)
+    with pytest.raises(ValueError):
+        SolverConfig(settle_steps=-1)
+
+
+def test_a_start_that_passes_is_settled_not_rearranged():
+    """Samples whose start already passes settle in at most settle_steps floor steps, so a
+    run with settling spends fewer floor steps than one that always runs the full
+    simulation, and every layout it accepts still passes the checks."""
+    plan = fl.load_plan("bedroom")
+    seeds = range(8)
+
+    def floor_steps(cfg):
+        opts = fl.Options(solver=cfg, repair=0)
+        lays = [fl.solve(plan, seed=s, options=opts) for s in seeds]
+        return lays, sum(lay.report.steps for lay in lays)
+
+    settled, with_settling = floor_steps(SolverConfig())
+    _, without = floor_steps(SolverConfig(settle_steps=0))
+    assert with_settling < without
+    for lay in settled:
+        if lay.report.valid:
+            assert lay.check().ok

@@ -333,7 +333,7 @@ def initial_poses(
     *,
     tries: int = 16,
     spread: float = 0.3,
-    restarts: int = 12,
+    restarts: int = 32,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Random start poses that already lean towards the rules; the best of ``restarts``.
 

@@ -164,6 +164,16 @@ def access_term(plan_objects: dict[str, SceneObject], ids: Sequence[str],
                 related: np.ndarray) -> AccessTerm | None:
     """The access term of a simulation's rows, or ``None`` when no row needs access."""
     owner, direction, depth = [], [], []
+    rows = set(ids)
+    # an object a rule stands in front of its target (the chair at the desk) takes the
+    # front of the target's zone: the free floor a person needs starts behind it
+    in_front: dict[str, float] = {}
+    for b in bindings:
+        hint = b.rule.start
+        if b.target in rows and b.object in rows and hint is not None \
+                and hint.place == "front" and b.object in plan_objects:
+            in_front[b.target] = max(in_front.get(b.target, 0.0),
+                                     float(plan_objects[b.object].size[1]))
     for r, oid in enumerate(ids):
         obj = plan_objects.get(oid)
         if obj is None or walkable[r]:
@@ -174,7 +184,7 @@ def access_term(plan_objects: dict[str, SceneObject], ids: Sequence[str],
         for side in acc.sides:
             owner.append(r)
             direction.append(_DIRS[side])
-            depth.append(acc.depth)
+            depth.append(acc.depth + (in_front.get(oid, 0.0) if side == "front" else 0.0))
     if not owner:
         return None
     own = np.array(owner, dtype=int)

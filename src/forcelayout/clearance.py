@@ -55,12 +55,20 @@ def push_out(f: np.ndarray, state: State, centre: np.ndarray, out: np.ndarray,
     pen_side = half[z, 0] + ext_a - np.abs(a)  # to leave sideways
     pen_out = half[z, 1] + ext_o - ahead  # to leave through the far side
     sideways = pen_side <= pen_out
-    if slide is not None:
-        sideways |= slide[b]
     mag = np.minimum(strength * pen[z, b], 0.15 * strength)
-    push = np.where(sideways[:, None], lateral[z] * np.where(a >= 0, 1.0, -1.0)[:, None],
-                    out[z]) * mag[:, None]
-    np.add.at(f, b, push)
+    side_dir = lateral[z] * np.where(a >= 0, 1.0, -1.0)[:, None]
+    push = np.where(sideways[:, None], side_dir, out[z])
+    if slide is not None and slide[b].any():
+        # an object held at a wall leaves along its wall (its own x axis): sideways past
+        # the zone's end when it stands on the zone's wall, out through the far side when
+        # it stands on a wall across (a fridge in the corner beside a window)
+        r = state.right[b]
+        along_side = np.abs((r * lateral[z]).sum(1)) >= np.abs((r * out[z]).sum(1))
+        held = np.where(along_side[:, None], side_dir, out[z])
+        proj = (held * r).sum(1, keepdims=True)
+        held = r * np.where(proj >= 0.0, 1.0, -1.0)
+        push = np.where(slide[b][:, None], held, push)
+    np.add.at(f, b, push * mag[:, None])
 
 
 class WindowTerm:
@@ -106,7 +114,7 @@ class WindowTerm:
         sep = geo.obb_separation(state.pos[None, :, :] - self.centre[:, None, :],
                                  self.lateral[:, None], self.out[:, None], self.half[:, None],
                                  state.right[None], state.front[None], state.half[None])
-        pen = np.maximum(0.02 - sep, 0.0)
+        pen = np.maximum(0.05 - sep, 0.0)  # from 5 cm before the zone: rules lean on it
         push_out(f, state, self.centre, self.out, self.lateral, self.half, pen,
                  (pen > 0) & self.tall, self.strength, self.slide)
         return f, np.zeros(n)

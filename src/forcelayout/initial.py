@@ -21,9 +21,8 @@ import shapely
 from forcelayout import geometry as geo
 from forcelayout.clearance import WindowTerm
 from forcelayout.forces import ForceModel, RuleGroup
-from forcelayout.layout import Layout, Pose
 from forcelayout.rules.base import ParamArrays
-from forcelayout.validate import check_layout
+from forcelayout.verdict import FloorVerdict, judge_floor
 
 __all__ = ["parents", "initial_poses", "propose_poses", "relocate"]
 
@@ -221,7 +220,11 @@ def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius,
     if places & {"front", "back"}:
         sign = -1.0 if "back" in places else 1.0
         dist = half[q, 1] + half[r, 1] + rng.uniform(0.1, 0.1 + spread, k)
-        cand = pos[q] + sign * fq * dist[:, None] + rq * rng.normal(0.0, 0.15, (k, 1))
+        # centred, or anywhere along the parent's width (three stools at one island)
+        reach = max(float(half[q, 0] - half[r, 0]), 0.0)
+        lateral = np.where(rng.random(k) < 0.5, rng.normal(0.0, 0.15, k),
+                           rng.uniform(-reach, reach, k))
+        cand = pos[q] + sign * fq * dist[:, None] + rq * lateral[:, None]
         cyaw = _yaw_facing(pos[q] - cand) if "face_target" in turns else same
         return cand, cyaw
     if places & _SIDE_PLACES:
@@ -334,48 +337,66 @@ def initial_poses(
     tries: int = 16,
     spread: float = 0.3,
     restarts: int = 32,
+    fixes: int = 2,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Random start poses that already lean towards the rules; the best of ``restarts``.
 
-    Draws up to ``restarts`` independent starts with :func:`propose_poses` and
-    keeps the one with the most rules met less checks failed (the first on
-    ties); the first that meets every rule and passes every deterministic
-    check ends the search at once. So a bed that landed in a corner with no
-    room for its second nightstand, or a sofa that can only face its TV from
-    in front of a window, is tried elsewhere before any simulation time is
-    spent on it.
+    Draws up to ``restarts`` independent starts with :func:`propose_poses`.
+    Each is judged as a settled floor is (:func:`forcelayout.verdict.judge_floor`:
+    the deterministic checks and every rule's own check); up to ``fixes``
+    times the objects at fault (those blocking a path, colliding, in a door
+    swing or a window zone, or with an unmet rule) and the objects that
+    start beside them are drawn again elsewhere (:func:`relocate`), kept if
+    fewer failures remain. The first start with no failure ends the search
+    at once; otherwise the one with the fewest failures is kept (the first on
+    ties). So a bed that landed in a corner with no room for its second
+    nightstand, or a sofa that can only face its TV from in front of a
+    window, is tried elsewhere before any simulation time is spent on it.
     """
     best, best_score = None, -np.inf
     placer = _Placer(model) if model.n else None
     for _ in range(max(1, restarts)):
         pos = np.zeros((model.n, 2))
         yaw = rng.uniform(-np.pi, np.pi, model.n)
-        if placer is not None:
-            pos, yaw = _propose(model, placer, rng, pos, yaw, tries, spread)
-        met = model.satisfied(model.state(pos, yaw))
-        failed = _check_failures(model, pos, yaw)
-        if failed == 0 and all(met.values()):
+        if placer is None:
             return pos, yaw
-        # a failed check (a wardrobe in front of a window) is as bad as an unmet rule
-        score = float(sum(met.values())) - failed
+        pos, yaw = _propose(model, placer, rng, pos, yaw, tries, spread)
+        verdict = _judge(model, pos, yaw)
+        for _ in range(max(0, fixes)):
+            if verdict.ok or not verdict.at_fault:
+                break
+            rows = np.zeros(model.n, dtype=bool)
+            rows[sorted(verdict.at_fault)] = True
+            rows |= np.isin(placer.parent, np.flatnonzero(rows))
+            p2, y2 = _relocate(model, placer, np.flatnonzero(rows), pos, yaw, rng, tries,
+                               spread)
+            again = _judge(model, p2, y2)
+            if len(again.failures) < len(verdict.failures):
+                pos, yaw, verdict = p2, y2, again
+        if verdict.ok:
+            return pos, yaw
+        score = -float(len(verdict.failures))
         if score > best_score:
             best, best_score = (pos, yaw), score
     return best  # type: ignore[return-value]
 
 
-def _check_failures(model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> int:
-    """How many deterministic checks start poses fail (floor objects only).
+def _judge(model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> FloorVerdict:
+    """The verdict on start poses; only the rules where rows are not the plan's objects.
 
     Rows that are not objects of the plan (an area's rectangle) are not
-    judged here: their members are checked once the area is carried into the
-    room.
+    checked here: their members are checked once the area is carried into
+    the room.
     """
     known = set(model.plan.ids)
-    if not all(oid in known for oid in model.ids):
-        return 0
-    poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
-             for oid, p, y in zip(model.ids, pos, yaw, strict=True)}
-    return len(check_layout(Layout(model.plan, poses)).failures)
+    if all(oid in known for oid in model.ids):
+        return judge_floor(model, pos, yaw)
+    out = FloorVerdict()
+    for k, ok in model.satisfied(model.state(pos, yaw)).items():
+        if not ok:
+            out.failures.append(str(model.bindings[k]))
+            out.at_fault.add(model.ids.index(model.bindings[k].object))
+    return out
 
 
 def propose_poses(
@@ -433,8 +454,13 @@ def relocate(model: ForceModel, rows: list[int] | np.ndarray, pos: np.ndarray, y
     pos, yaw : ndarray
         Copies of the poses with the rows moved.
     """
+    return _relocate(model, _Placer(model), rows, pos, yaw, rng, tries, spread)
+
+
+def _relocate(model: ForceModel, placer: _Placer, rows: list[int] | np.ndarray,
+              pos: np.ndarray, yaw: np.ndarray, rng: np.random.Generator, tries: int,
+              spread: float) -> tuple[np.ndarray, np.ndarray]:
     pos, yaw = pos.copy(), yaw.copy()
-    placer = _Placer(model)
     moving = {int(r) for r in rows}
     placed = [r for r in range(model.n) if r not in moving]
     for r in placer.order:
@@ -465,6 +491,12 @@ class _Placer:
             if parent[c] >= 0 and "wall" in wants[c].places and wants[c].places & _SIDE_PLACES:
                 margin[parent[c]] = max(margin[parent[c]], model.size[c, 0] + 0.1)
         self.margin = margin
+        # floor to keep free in front of a parent for children standing in front of it
+        front = np.zeros(n)
+        for c in range(n):
+            if parent[c] >= 0 and "front" in wants[c].places:
+                front[parent[c]] = max(front[parent[c]], model.size[c, 1] + 0.15)
+        self.front_margin = front
         self.lo, self.hi = room.bounds[:2], room.bounds[2:]
         self.floor = room.shape
         shapely.prepare(self.floor)
@@ -583,10 +615,16 @@ class _Placer:
                                      window.half[z][None])
             unmet += (sep < -0.02).any(axis=1)
         score = np.where(inside0, clear0, -np.inf)
-        # first clear candidate meeting the most of the rules it can be judged by,
-        # with room for its side children on a tie; else the one with the most clearance
-        rank = np.where(score >= _CLEAR,
-                        20.0 - 2.0 * unmet + (inside & (clear >= _CLEAR)),
+        roomy = inside & (clear >= _CLEAR)  # room along the wall for its side children
+        fm = self.front_margin[r]
+        if fm > 0:  # and in front of it for its front children (the chair at the desk)
+            inside_f, clear_f = self._clearance(cand + fwd * (0.5 * fm), rgt, fwd,
+                                                half[r] + np.array([0.0, 0.5 * fm]), solid,
+                                                slack, pos, yaw, not walkable[r])
+            roomy &= inside_f & (clear_f >= _CLEAR)
+        # first clear candidate meeting the most of the rules it can be judged by and
+        # leaving room for its children (as much as one rule); else the most clearance
+        rank = np.where(score >= _CLEAR, 20.0 - 2.0 * unmet + 2.0 * roomy,
                         np.where(np.isfinite(score), -10.0, -99.0))
         k = int(np.argmax(rank)) if rank.max() > -10.0 else int(np.argmax(score))
         if np.isfinite(score[k]):

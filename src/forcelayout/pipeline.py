@@ -22,9 +22,10 @@ from forcelayout.initial import initial_poses
 from forcelayout.layout import Pose
 from forcelayout.options import Options
 from forcelayout.plan import Plan
-from forcelayout.repair import judge_floor, repair_floor
+from forcelayout.repair import repair_floor
 from forcelayout.solver import SimulationResult, simulate
 from forcelayout.surfaces import check_surfaces, place_surfaces
+from forcelayout.verdict import judge_floor
 
 __all__ = ["Placement", "realise", "prepare"]
 

@@ -15,80 +15,17 @@ sample's report lists what each round did.
 
 from __future__ import annotations
 
-import re
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 import numpy as np
 
 from forcelayout.forces import ForceModel, PassageTerm
 from forcelayout.initial import parents, relocate
-from forcelayout.layout import Layout, Pose
 from forcelayout.options import SolverConfig
 from forcelayout.solver import simulate
-from forcelayout.validate import check_layout
+from forcelayout.verdict import FloorVerdict, judge_floor
 
-__all__ = ["FloorVerdict", "judge_floor", "repair_floor"]
-
-_QUOTED = re.compile(r"'([^']+)'")
-
-
-@dataclass
-class FloorVerdict:
-    """How a floor arrangement fares, and which objects are at fault.
-
-    Attributes
-    ----------
-    failures : list of str
-        Failed checks (``"<check>: ..."``) and unmet bindings (``"rule(object, target)"``).
-    at_fault : set of int
-        Rows of the objects to move.
-    """
-
-    failures: list[str] = field(default_factory=list)
-    at_fault: set[int] = field(default_factory=set)
-
-    @property
-    def ok(self) -> bool:
-        """Whether nothing failed."""
-        return not self.failures
-
-
-def judge_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
-                check_kwargs: dict | None = None) -> FloorVerdict:
-    """Check a floor arrangement and name the objects at fault.
-
-    Parameters
-    ----------
-    model : ForceModel
-        The floor simulation's model (rows are the plan's floor objects).
-    pos : ndarray, shape (N, 2)
-    yaw : ndarray, shape (N,)
-    check_kwargs : dict, optional
-        Thresholds for :func:`forcelayout.validate.check_layout`.
-
-    Returns
-    -------
-    FloorVerdict
-    """
-    row = {oid: r for r, oid in enumerate(model.ids)}
-    poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
-             for oid, p, y in zip(model.ids, pos, yaw, strict=True)}
-    report = check_layout(Layout(model.plan, poses), **(check_kwargs or {}))
-    out = FloorVerdict(list(report.failures))
-    for fail in report.failures:
-        check = fail.split(":", 1)[0]
-        if check in ("collision", "door", "window", "outside"):
-            out.at_fault.update(row[n] for n in _QUOTED.findall(fail) if n in row)
-    for blockers in report.blocked_by.values():
-        out.at_fault.update(row[n] for n in blockers if n in row)
-    met = model.satisfied(model.state(pos, yaw))
-    for k, ok in met.items():
-        if not ok:
-            b = model.bindings[k]
-            out.failures.append(str(b))
-            out.at_fault.add(row[b.object])
-    return out
-
+__all__ = ["repair_floor"]
 
 def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: SolverConfig,
                  *, rounds: int = 2, steps: int = 80, check_kwargs: dict | None = None,

@@ -13,6 +13,7 @@ the wrong wall. A plugin rule gets the same help by declaring a hint.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -24,7 +25,7 @@ from forcelayout.forces import ForceModel, RuleGroup
 from forcelayout.rules.base import ParamArrays
 from forcelayout.verdict import FloorVerdict, judge_floor
 
-__all__ = ["parents", "initial_poses", "propose_poses", "relocate"]
+__all__ = ["parents", "initial_poses", "start_poses", "propose_poses", "relocate"]
 
 #: Start places beside the parent, where wall length is kept free next to it.
 _SIDE_PLACES = frozenset({"beside", "left", "right"})
@@ -341,25 +342,54 @@ def initial_poses(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Random start poses that already lean towards the rules; the best of ``restarts``.
 
-    Draws up to ``restarts`` independent starts with :func:`propose_poses`.
-    Each is judged as a settled floor is (:func:`forcelayout.verdict.judge_floor`:
-    the deterministic checks and every rule's own check); up to ``fixes``
-    times the objects at fault (those blocking a path, colliding, in a door
-    swing or a window zone, or with an unmet rule) and the objects that
-    start beside them are drawn again elsewhere (:func:`relocate`), kept if
-    fewer failures remain. The first start with no failure ends the search
-    at once; otherwise the one with the fewest failures is kept (the first on
-    ties). So a bed that landed in a corner with no room for its second
-    nightstand, or a sofa that can only face its TV from in front of a
-    window, is tried elsewhere before any simulation time is spent on it.
+    The first start of :func:`start_poses` with no failure, else the one
+    with the fewest failures (the first on ties). So a bed that landed in a
+    corner with no room for its second nightstand, or a sofa that can only
+    face its TV from in front of a window, is tried elsewhere before any
+    simulation time is spent on it.
     """
     best, best_score = None, -np.inf
-    placer = _Placer(model) if model.n else None
+    for pos, yaw, verdict in start_poses(model, rng, tries=tries, spread=spread,
+                                         restarts=restarts, fixes=fixes):
+        if verdict.ok:
+            return pos, yaw
+        if -len(verdict.failures) > best_score:
+            best, best_score = (pos, yaw), -float(len(verdict.failures))
+    return best  # type: ignore[return-value]
+
+
+def start_poses(
+    model: ForceModel,
+    rng: np.random.Generator,
+    *,
+    tries: int = 16,
+    spread: float = 0.3,
+    restarts: int = 32,
+    fixes: int = 2,
+) -> Iterator[tuple[np.ndarray, np.ndarray, FloorVerdict]]:
+    """Up to ``restarts`` independent starts, each with its verdict.
+
+    Each start comes from :func:`propose_poses` and is judged as a settled
+    floor is (:func:`forcelayout.verdict.judge_floor`: the deterministic
+    checks and every rule's own check); up to ``fixes`` times the objects at
+    fault (those blocking a path, colliding, in a door swing or a window zone,
+    or with an unmet rule) and the objects that start beside them are drawn
+    again elsewhere (:func:`relocate`), kept if fewer failures remain. The
+    caller stops drawing when it has what it needs.
+
+    Yields
+    ------
+    pos : ndarray, shape (N, 2)
+    yaw : ndarray, shape (N,)
+    verdict : FloorVerdict
+    """
+    if model.n == 0:
+        yield np.zeros((0, 2)), np.zeros(0), FloorVerdict()
+        return
+    placer = _Placer(model)
     for _ in range(max(1, restarts)):
         pos = np.zeros((model.n, 2))
         yaw = rng.uniform(-np.pi, np.pi, model.n)
-        if placer is None:
-            return pos, yaw
         pos, yaw = _propose(model, placer, rng, pos, yaw, tries, spread)
         verdict = _judge(model, pos, yaw)
         for _ in range(max(0, fixes)):
@@ -373,12 +403,7 @@ def initial_poses(
             again = _judge(model, p2, y2)
             if len(again.failures) < len(verdict.failures):
                 pos, yaw, verdict = p2, y2, again
-        if verdict.ok:
-            return pos, yaw
-        score = -float(len(verdict.failures))
-        if score > best_score:
-            best, best_score = (pos, yaw), score
-    return best  # type: ignore[return-value]
+        yield pos, yaw, verdict
 
 
 def _judge(model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> FloorVerdict:

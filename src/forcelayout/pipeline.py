@@ -18,7 +18,7 @@ import numpy as np
 from forcelayout.access import AccessTerm
 from forcelayout.forces import ForceModel, PassageTerm
 from forcelayout.hierarchy import sample_floor, scene_graph
-from forcelayout.initial import initial_poses
+from forcelayout.initial import start_poses
 from forcelayout.layout import Pose
 from forcelayout.options import Options
 from forcelayout.plan import Plan
@@ -27,7 +27,7 @@ from forcelayout.solver import SimulationResult, simulate
 from forcelayout.surfaces import check_surfaces, place_surfaces
 from forcelayout.verdict import judge_floor
 
-__all__ = ["Placement", "realise", "prepare"]
+__all__ = ["Placement", "realise", "prepare", "SETTLE_STARTS"]
 
 
 @dataclass
@@ -57,6 +57,9 @@ class Placement:
     repairs: list[str] = field(default_factory=list)
 
 
+#: Starts that pass and are settled, at most, before the full simulation runs from the first.
+SETTLE_STARTS = 3
+
 _PREPARED: dict[int, Plan] = {}
 
 
@@ -79,39 +82,46 @@ def prepare(plan: Plan) -> None:
     _PREPARED[id(plan)] = plan
 
 
-def _settled_start(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, opts: Options
-                   ) -> tuple[SimulationResult | None, int]:
-    """Settle a start that passes every check and meets every rule, if it stays so.
+def _settle(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, opts: Options
+            ) -> tuple[SimulationResult, bool]:
+    """Settle a start that passes by the rules and the physical terms alone.
 
-    Only the rules and the physical terms act (``SolverConfig.settle_steps``
-    steps at most): they square the objects up and press them to their
-    walls, where the walking-room and access terms of the full simulation
-    would rearrange an arrangement that needs no rearranging. Returns the
-    settled result (``None`` if the start or the settled arrangement fails)
-    and the steps spent.
+    At most ``SolverConfig.settle_steps`` steps: they square the objects up
+    and press them to their walls, where the walking-room and access terms of
+    the full simulation would rearrange an arrangement that needs no
+    rearranging. Returns the result and whether it still passes.
     """
     cfg = opts.solver
-    if cfg.settle_steps <= 0 or not model.n or not opts.relations:
-        return None, 0
-    if not judge_floor(model, pos, yaw, opts.check_kwargs).ok:
-        return None, 0
     with model.without(PassageTerm, AccessTerm):
         res = simulate(model, pos, yaw, replace(cfg, max_steps=cfg.settle_steps,
                                                 min_steps=min(cfg.min_steps,
                                                               cfg.settle_steps)))
-    if judge_floor(model, res.pos, res.yaw, opts.check_kwargs).ok:
-        return res, res.steps
-    return None, res.steps
+    return res, judge_floor(model, res.pos, res.yaw, opts.check_kwargs).ok
 
 
 def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options
                 ) -> tuple[dict[str, Pose], int, bool, list[str]]:
     model = ForceModel(plan, relations=opts.relations)
-    pos0, yaw0 = initial_poses(model, rng)
-    res, steps = _settled_start(model, pos0, yaw0, opts)
+    settle = opts.solver.settle_steps > 0 and opts.relations and model.n > 0
+    steps, settled, start, fewest, tried = 0, None, None, np.inf, 0
+    for pos0, yaw0, verdict in start_poses(model, rng):
+        if len(verdict.failures) < fewest:  # the first start with the fewest failures
+            start, fewest = (pos0, yaw0), len(verdict.failures)
+        if not verdict.ok:
+            continue
+        if not settle:
+            break
+        res, ok = _settle(model, pos0, yaw0, opts)
+        steps += res.steps
+        if ok:
+            settled = res
+            break
+        tried += 1
+        if tried >= SETTLE_STARTS:
+            break
     repairs: list[str] = []
-    if res is None:
-        res = simulate(model, pos0, yaw0, opts.solver)
+    if settled is None:
+        res = simulate(model, start[0], start[1], opts.solver)
         steps += res.steps
         pos, yaw = res.pos, res.yaw
         if opts.repair > 0 and model.n:
@@ -121,6 +131,7 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options
             steps += extra
             yaw = (yaw + np.pi) % (2 * np.pi) - np.pi
     else:
+        res = settled
         pos, yaw = res.pos, res.yaw
     poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
              for oid, p, y in zip(model.ids, pos, yaw, strict=True)}

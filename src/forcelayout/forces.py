@@ -133,9 +133,10 @@ class PassageTerm:
 class PhysicalTerm:
     """The always-on terms (repulsion, boundary, alignment, door clearance); not annealed.
 
-    Repulsion acts between the pairs ``(pi, pj)``; the door clearance pushes
-    the ``solid`` rows (walkable floor covers may lie in a door's swing), and
-    the ``slide`` rows (held at a wall by a hard rule) only along the wall.
+    Repulsion acts between the pairs ``(pi, pj)`` (the model passes the pairs no
+    rule relates: related pairs are spaced by their rules, kept apart by contacts);
+    the door clearance pushes the ``solid`` rows (walkable floor covers may lie in a
+    door's swing), and the ``slide`` rows (held at a wall by a hard rule) only along the wall.
     """
 
     annealed = False
@@ -232,7 +233,8 @@ class ForceModel:
         self.terms: list[ForceTerm] = [
             self.rules,
             PassageTerm(self.pi[free], self.pj[free], self.physical_weights),
-            PhysicalTerm(self.pi, self.pj, self.physical_weights, ~self.walkable, self.held),
+            PhysicalTerm(self.pi[free], self.pj[free], self.physical_weights, ~self.walkable,
+                         self.held),
         ]
         if self.room is self.compiled.room and self.plan.room.windows and w_window > 0:
             self.terms.append(self._window_term(w_window))

@@ -9,6 +9,8 @@ from pathlib import Path
 
 import pytest
 
+import forcelayout as fl
+
 ROOT = Path(__file__).resolve().parents[1]
 BENCH = ROOT / "benchmarks"
 
@@ -147,3 +149,11 @@ def test_grounding_quick() -> None:
     assert lex["queries"] >= 30 and 0.0 <= lex["top1_words"] <= lex["top1"] + 1.0
     assert result["grounding"]["plans"]["bedroom"]["matched"] >= 1
     assert set(result["yield"]["bedroom"]) == {"boxes", "meshes", "meshes_hull"}
+
+
+@pytest.mark.parametrize("folder", ["plans", "plans_heldout"])
+def test_every_suite_plan_loads(folder):
+    files = sorted((BENCH / folder).glob("*.json"))
+    assert len(files) >= 12
+    for f in files:
+        assert fl.load_plan(f).name == f.stem

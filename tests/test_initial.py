@@ -5,7 +5,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 
 import forcelayout as fl
-from forcelayout.forces import ForceModel
+from forcelayout.forces import ForceModel, RuleTerm
 from forcelayout.initial import initial_poses, parents, propose_poses
 from forcelayout.testing import plans
 
@@ -56,3 +56,18 @@ def test_random_plans_get_finite_starts_inside_the_bounds(plan):
     assert pos.shape == (model.n, 2) and np.isfinite(pos).all() and np.isfinite(yaw).all()
     lo, hi = model.room.bounds[:2], model.room.bounds[2:]
     assert ((pos >= lo - 1e-9) & (pos <= hi + 1e-9)).all()
+
+
+def test_start_poses_yields_each_start_with_its_verdict():
+    from forcelayout.initial import start_poses
+    from forcelayout.verdict import judge_floor
+
+    model = ForceModel(fl.load_plan("bedroom"))
+    starts = list(start_poses(model, np.random.default_rng(0), restarts=3))
+    assert len(starts) == 3
+    for pos, yaw, verdict in starts:
+        assert pos.shape == (model.n, 2) and yaw.shape == (model.n,)
+        assert judge_floor(model, pos, yaw).failures == verdict.failures
+    with model.without(RuleTerm):  # a with block leaves those terms out, then restores them
+        assert not any(isinstance(t, RuleTerm) for t in model.terms)
+    assert any(isinstance(t, RuleTerm) for t in model.terms)

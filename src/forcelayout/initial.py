@@ -414,14 +414,7 @@ def _judge(model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> FloorVerdict:
     the room.
     """
     known = set(model.plan.ids)
-    if all(oid in known for oid in model.ids):
-        return judge_floor(model, pos, yaw)
-    out = FloorVerdict()
-    for k, ok in model.satisfied(model.state(pos, yaw)).items():
-        if not ok:
-            out.failures.append(str(model.bindings[k]))
-            out.at_fault.add(model.ids.index(model.bindings[k].object))
-    return out
+    return judge_floor(model, pos, yaw, checks=all(oid in known for oid in model.ids))
 
 
 def propose_poses(

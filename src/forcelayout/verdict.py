@@ -44,7 +44,7 @@ class FloorVerdict:
 
 
 def judge_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
-                check_kwargs: dict | None = None) -> FloorVerdict:
+                check_kwargs: dict | None = None, *, checks: bool = True) -> FloorVerdict:
     """Check a floor arrangement and name the objects at fault.
 
     Parameters
@@ -55,22 +55,28 @@ def judge_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
     yaw : ndarray, shape (N,)
     check_kwargs : dict, optional
         Thresholds for :func:`forcelayout.validate.check_layout`.
+    checks : bool
+        Run the deterministic checks (default); ``False`` judges the rules
+        alone (rows that are not objects of the plan, e.g. an area's
+        rectangle, cannot be checked).
 
     Returns
     -------
     FloorVerdict
     """
     row = {oid: r for r, oid in enumerate(model.ids)}
-    poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
-             for oid, p, y in zip(model.ids, pos, yaw, strict=True)}
-    report = check_layout(Layout(model.plan, poses), **(check_kwargs or {}))
-    out = FloorVerdict(list(report.failures))
-    for fail in report.failures:
-        check = fail.split(":", 1)[0]
-        if check in ("collision", "door", "window", "outside"):
-            out.at_fault.update(row[n] for n in _QUOTED.findall(fail) if n in row)
-    for blockers in report.blocked_by.values():
-        out.at_fault.update(row[n] for n in blockers if n in row)
+    out = FloorVerdict()
+    if checks:
+        poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
+                 for oid, p, y in zip(model.ids, pos, yaw, strict=True)}
+        report = check_layout(Layout(model.plan, poses), **(check_kwargs or {}))
+        out.failures += report.failures
+        for fail in report.failures:
+            check = fail.split(":", 1)[0]
+            if check in ("collision", "door", "window", "outside"):
+                out.at_fault.update(row[n] for n in _QUOTED.findall(fail) if n in row)
+        for blockers in report.blocked_by.values():
+            out.at_fault.update(row[n] for n in blockers if n in row)
     met = model.satisfied(model.state(pos, yaw))
     for k, ok in met.items():
         if not ok:

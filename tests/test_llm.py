@@ -154,18 +154,24 @@ def test_decor_problems_name_paths_in_the_decor_reply(server):
     assert "rules[1] (next_to).object: unknown object 'lamp'" in feedback
 
 
-def _graph_with_unknown_member() -> str:
+def _graph_with_unknown_names() -> str:
     bad = json.loads(json.dumps(GRAPH))
-    bad["areas"][0]["objects"].append("bedd")
+    bad["areas"][0]["objects"] += ["bedd", "sleeping"]
+    bad["support"] = [{"object": "lamp", "parent": "work"}]
     return json.dumps(bad)
 
 
-@script(bedroom_script()[:2] + [_graph_with_unknown_member()]
-                    + bedroom_script()[2:])
-def test_scene_graph_problems_are_fed_back(server):
-    Planner(client_for(server)).plan(PROMPT)
-    feedback = server.requests[3]["messages"][-1]["content"]
-    assert "areas[0].objects[2]: unknown object 'bedd'. Did you mean 'bed'?" in feedback
+@script(bedroom_script()[:2] + [_graph_with_unknown_names()] + bedroom_script()[3:])
+def test_scene_graph_names_are_mapped_or_dropped_without_asking(server):
+    planner = Planner(client_for(server))
+    plan = planner.plan(PROMPT)
+    assert not planner.failed_attempts  # nothing was sent back
+    assert "scene_graph: areas[0].objects[2]: 'bedd' read as 'bed'" in planner.fixes
+    assert ("scene_graph: areas[0].objects[3]: dropped the membership naming 'sleeping', "
+            "which is no object of the plan") in planner.fixes
+    assert any(f.startswith("scene_graph: support[0].object: dropped the support bond")
+               for f in planner.fixes)
+    assert "sleeping" not in plan.ids
 
 
 @script(bedroom_script()[:1] + [{"delay": 3.0, "content": "{}"}]

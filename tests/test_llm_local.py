@@ -255,17 +255,48 @@ def test_one_object_aligned_with_three_targets_is_sent_back():
     assert "'lamp' is aligned_with 3 targets ('bed', 'desk', 'nightstand_1')" in repair
 
 
-def test_a_14_by_5_bedroom_is_sent_back_and_a_kept_finding_is_warned(capsys):
+def test_a_14_by_5_bedroom_is_scaled_and_a_kept_finding_is_warned(capsys):
     huge = copy.deepcopy(ROOM)
     huge["room"]["polygon"] = [[0, 0], [14, 0], [14, 5], [0, 5]]
     with FakeChatServer([json.dumps(huge)] * 2 + script()[1:]) as srv:
-        assert plan_cli(srv, "--llm-attempts", "2") == 0
+        assert plan_cli(srv, "--llm-attempts", "2", "-v") == 0
         repair = srv.requests[1]["messages"][-1]["content"]
-    assert "room.polygon: the floor is 70.0 m² (14.00 x 5.00 m); a bedroom is usually 6-35 m²" \
-        in repair
+    # the size is fixed without asking; the shape (2.8 times as long as wide) is a choice
+    assert "the floor is 70.0 m²" not in repair
+    assert "room.polygon: the room is 9.90 x 3.54 m, 2.8 times as long as wide" in repair
     err = capsys.readouterr().err
+    assert "room.polygon: scaled by 0.71 from 70.0 to 35.0 m² (a bedroom is usually 6-35 m²)" \
+        in err
     assert "step 'room': kept attempt 1 with problems the model did not fix" in err
-    assert "warning: room.polygon: the floor is 70.0 m²" in err
+    assert "warning: room.polygon: the room is 9.90 x 3.54 m" in err
+
+
+def test_a_crowded_room_is_enlarged_within_its_usual_size():
+    from forcelayout.autofix import FILL_TARGET, autofix
+
+    plan = {"name": "student_bedroom", "room": {"polygon": [[0, 0], [3.6, 0], [3.6, 3], [0, 3]],
+            "doors": [{"wall": 0, "offset": 3.0, "width": 0.9}]},
+            "objects": [{"id": "bed", "category": "bed", "size": [1.4, 2.0, 0.5]},
+                        {"id": "wardrobe", "category": "wardrobe", "size": [1.5, 0.6, 2.0]},
+                        {"id": "desk", "category": "desk", "size": [1.4, 0.7, 0.75]},
+                        {"id": "rug", "category": "rug", "size": [2.0, 1.5, 0.01]},
+                        {"id": "lamp", "category": "lamp", "size": [0.3, 0.3, 0.5]},
+                        {"id": "chair", "category": "chair", "size": [0.5, 0.5, 0.9]}],
+            "rules": [{"rule": "on_top_of", "object": "lamp", "target": "desk"}]}
+    fixed, notes = autofix(plan)
+    # the bed, wardrobe, desk and chair stand on the floor (the rug is walkable, the lamp on top)
+    foot = 1.4 * 2.0 + 1.5 * 0.6 + 1.4 * 0.7 + 0.5 * 0.5
+    (x0, y0), _, (x1, y1), _ = fixed["room"]["polygon"]
+    assert (x1 - x0) * (y1 - y0) == pytest.approx(foot / FILL_TARGET, rel=1e-3)
+    assert (x1 - x0) / (y1 - y0) == pytest.approx(3.6 / 3, rel=1e-3)  # the shape is kept
+    assert fixed["room"]["doors"][0]["offset"] == pytest.approx(3.0 * (x1 - x0) / 3.6, abs=1e-3)
+    assert any(n.startswith("room.polygon: scaled by") and "more than 45%" in n for n in notes)
+    Plan.from_dict(fixed)
+    # within the room type's usual size only: a bedroom is not made a hall
+    plan["objects"][0] = {**plan["objects"][0], "size": [2.0, 2.4, 0.5]}
+    plan["objects"] += [{"id": f"bunk_{k}", "category": "bunk bed", "size": [1.0, 2.0, 1.6]}
+                        for k in range(8)]
+    assert not any(n.startswith("room.polygon") for n in autofix(plan)[1])
 
 
 def test_the_self_check_is_given_the_librarys_report():

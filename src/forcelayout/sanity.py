@@ -41,7 +41,7 @@ from forcelayout.plan import Plan
 from forcelayout.rules import Rule
 
 __all__ = ["Finding", "plan_findings", "CATEGORY_SIZES", "ROOM_AREAS", "OPENING_WORDS",
-           "category_key", "convex_corners", "Severity"]
+           "category_key", "convex_corners", "room_kind", "Severity"]
 
 Severity = Literal["infeasible", "implausible"]
 
@@ -103,7 +103,7 @@ ROOM_AREAS: dict[str, tuple[tuple[str, ...], tuple[float, float]]] = {
     "studio": (("studio", "apartment", "loft"), (14.0, 70.0)),
 }
 _SIZE_SLACK = 1.5      # a size is "far" from its range beyond this factor
-_AREA_SLACK = 1.3
+AREA_SLACK = 1.3      # a floor area is "far" from its room type's range beyond this
 _MAX_ASPECT = 2.5      # longer side / shorter side of an ordinary room
 _MAX_TARGETS = 2       # distinct targets of one positional relation per object
 
@@ -164,6 +164,27 @@ def category_key(category: str) -> str | None:
     return None
 
 
+def article(noun: str) -> str:
+    """``"an"`` before a vowel, else ``"a"`` (``"an office"``, ``"a bedroom"``)."""
+    return "an" if noun[:1].lower() in "aeiou" else "a"
+
+
+def room_kind(name: str, description: str = "") -> str | None:
+    """The :data:`ROOM_AREAS` room type a plan's name (else its description) names, or None.
+
+    Examples
+    --------
+    >>> room_kind("student_bedroom"), room_kind("den", "a small home office")
+    ('bedroom', 'office')
+    """
+    for text in (name, description):
+        words = set(_tokens(text or ""))
+        kind = next((k for k, (keys, _) in ROOM_AREAS.items() if words & set(keys)), None)
+        if kind is not None:
+            return kind
+    return None
+
+
 def convex_corners(polygon: Iterable[tuple[float, float]] | Iterable[list[float]]) -> int:
     """Number of convex corners of a simple floor polygon (collinear vertices do not count)."""
     pts = [tuple(map(float, p)) for p in polygon]
@@ -212,7 +233,8 @@ def _size_findings(plan: Plan) -> Iterable[Finding]:
             what = key.replace("_", " ")
             yield Finding(f"objects[{k}].size",
                           f"{o.id!r} (category {o.category!r}) is {_fmt(o.size[0])} x "
-                          f"{_fmt(o.size[1])} m; a {what} is usually {_rng((s_lo, s_hi))} x "
+                          f"{_fmt(o.size[1])} m; {article(what)} {what} is usually "
+                          f"{_rng((s_lo, s_hi))} x "
                           f"{_rng((l_lo, l_hi))} m (height {_rng((h_lo, h_hi))} m)",
                           "fix the size or the category", refs=(f"objects[{k}]",))
 
@@ -224,19 +246,15 @@ def _room_findings(plan: Plan) -> Iterable[Finding]:
     sides = sorted({math.hypot(xs[1] - xs[0], ys[1] - ys[0]),
                     math.hypot(xs[2] - xs[1], ys[2] - ys[1])})
     short, long_ = sides[0], sides[-1]
-    kind = None
-    for text in (plan.name, plan.description):
-        kind = next((name for name, (keys, _) in ROOM_AREAS.items()
-                     if set(_tokens(text)) & set(keys)), None)
-        if kind is not None:
-            break
+    kind = room_kind(plan.name, plan.description)
     words = set(_tokens(plan.name)) | set(_tokens(plan.description))
     area = float(floor.area)
     if kind is not None:
         lo, hi = ROOM_AREAS[kind][1]
-        if area > hi * _AREA_SLACK or area < lo / _AREA_SLACK:
+        if area > hi * AREA_SLACK or area < lo / AREA_SLACK:
             yield Finding("room.polygon", f"the floor is {area:.1f} m² ({long_:.2f} x "
-                          f"{short:.2f} m); a {kind} is usually {_fmt(lo)}-{_fmt(hi)} m²",
+                          f"{short:.2f} m); {article(kind)} {kind} is usually "
+                          f"{_fmt(lo)}-{_fmt(hi)} m²",
                           "resize the polygon", refs=("room",))
             return
     if short > 0 and long_ / short > _MAX_ASPECT and not words & {"corridor", "hallway",

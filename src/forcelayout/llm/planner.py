@@ -34,7 +34,7 @@ from typing import Any, TypeVar
 from pydantic import BaseModel
 
 from forcelayout import rules as registry
-from forcelayout.autofix import autofix
+from forcelayout.autofix import autofix, resolve_id
 from forcelayout.errors import PlanError
 from forcelayout.llm.client import (
     ChatClient,
@@ -532,6 +532,21 @@ class Planner:
 
     def _apply_graph(self, r: SceneGraphStep, draft: Draft, kinds: dict[str, str]) -> Draft:
         ids = [o["id"] for o in draft["objects"]]
+        by_cat: dict[str, list[str]] = {}
+        for o in draft["objects"]:
+            by_cat.setdefault(o["category"], []).append(o["id"])
+
+        def known(oid: str, path: str, what: str) -> str | None:
+            """The object ``oid`` means (a near miss mapped), or None (noted: dropped)."""
+            new = resolve_id(oid, ids, by_cat)
+            if new in ids:
+                if new != oid:
+                    self._note("scene_graph", f"{path}: {oid!r} read as {new!r}")
+                return new
+            self._note("scene_graph", f"{path}: dropped {what} naming {oid!r}, which is no "
+                       "object of the plan")
+            return None
+
         problems: list[str] = []
         member: dict[str, str] = {}
         names: set[str] = set()
@@ -539,11 +554,11 @@ class Planner:
             if a.name in names:
                 problems.append(f"areas[{i}].name: area {a.name!r} appears twice")
             names.add(a.name)
-            for j, oid in enumerate(a.objects):
-                if oid not in ids:
-                    problems.append(f"areas[{i}].objects[{j}]: unknown object {oid!r}."
-                                    f"{_did_you_mean(oid, ids)}")
-                elif oid in member:
+            for j, raw in enumerate(a.objects):
+                oid = known(raw, f"areas[{i}].objects[{j}]", "the membership")
+                if oid is None:
+                    continue
+                if oid in member:
                     if member[oid] != a.name:
                         self._note("scene_graph", f"areas[{i}].objects[{j}]: {oid!r} left in "
                                    f"area {member[oid]!r} only (an object belongs to one area)")
@@ -556,13 +571,18 @@ class Planner:
                     problems.append(f"areas[{i}].rules[{j}] ({ar.rule}): {what}; area rules "
                                     "must be unary rules from the list"
                                     f"{_did_you_mean(ar.rule, sorted(kinds))}")
+        support: list[tuple[str, str]] = []
         for k, e in enumerate(r.support):
-            for field, oid in (("object", e.object), ("parent", e.parent)):
-                if oid not in ids:
-                    problems.append(f"support[{k}].{field}: unknown object {oid!r}."
-                                    f"{_did_you_mean(oid, ids)}")
-            if e.object == e.parent:
-                problems.append(f"support[{k}]: an object cannot rest on itself")
+            child = known(e.object, f"support[{k}].object", "the support bond")
+            parent = None if child is None else known(e.parent, f"support[{k}].parent",
+                                                      "the support bond")
+            if child is None or parent is None:
+                continue
+            if child == parent:
+                self._note("scene_graph", f"support[{k}]: dropped, {child!r} cannot rest on "
+                           "itself")
+                continue
+            support.append((child, parent))
         if problems:
             raise _Problems(problems)
         areas = [{"name": a.name, "description": a.description,
@@ -579,9 +599,9 @@ class Planner:
         top = next((n for n in sorted(kinds) if registry.get_rule(n).surface == "top"), None)
         have = {(x["object"], x.get("target")) for x in rules if x["rule"] == top}
         if top is not None:
-            rules += [{"rule": top, "object": e.object, "target": e.parent, "params": {}}
-                      for e in r.support if (e.object, e.parent) not in have]
-        elif r.support:
+            rules += [{"rule": top, "object": child, "target": parent, "params": {}}
+                      for child, parent in dict.fromkeys(support) if (child, parent) not in have]
+        elif support:
             raise _Problems(["support: no rule in the vocabulary rests an object on another's "
                              "top; give no support bonds"])
         new = self._fix("scene_graph", {**draft, "areas": areas, "objects": objects,

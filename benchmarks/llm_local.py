@@ -29,7 +29,8 @@ Or llama.cpp's own server, built from source with CMake (``cmake -B build
 Options: ``--model FILE`` (a GGUF file instead of the PyPI one), ``--base-url``
 (a server already running; nothing is started), ``--prompts K`` (the first K
 prompts), ``--ctx`` (server context, default 16384), ``--budget-minutes``
-(stop starting new prompts after this), ``--out FILE`` (JSON results).
+(stop starting new prompts after this), ``--max-tokens`` (cap on each reply,
+default 2048), ``--out FILE`` (JSON results).
 """
 
 from __future__ import annotations
@@ -190,6 +191,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--prompts", type=int, default=len(PROMPTS))
     ap.add_argument("--budget-minutes", type=float, default=40.0)
     ap.add_argument("--step-timeout", type=float, default=180.0)
+    ap.add_argument("--max-tokens", type=int, default=2048,
+                    help="cap on each reply (a runaway reply ends there, not at the timeout)")
     ap.add_argument("--record", type=Path, default=None)
     ap.add_argument("--replay", type=Path, default=None)
     ap.add_argument("--no-generate", action="store_true")
@@ -214,7 +217,8 @@ def main(argv: list[str] | None = None) -> int:
                                     args.llama_server)
                 url = f"http://127.0.0.1:{args.port}/v1"
             client = make_client(record=args.record, base_url=url, model=MODEL_NAME,
-                                 timeout=args.step_timeout, temperature=0.2, seed=0)
+                                 timeout=args.step_timeout, temperature=0.2, seed=0,
+                                 max_tokens=args.max_tokens)
         results = run(prompts, client, budget_s=args.budget_minutes * 60,
                       step_timeout=args.step_timeout, generate=not args.no_generate)
     finally:

@@ -277,20 +277,20 @@ def test_a_crowded_room_is_enlarged_within_its_usual_size():
     plan = {"name": "student_bedroom", "room": {"polygon": [[0, 0], [3.6, 0], [3.6, 3], [0, 3]],
             "doors": [{"wall": 0, "offset": 3.0, "width": 0.9}]},
             "objects": [{"id": "bed", "category": "bed", "size": [1.4, 2.0, 0.5]},
-                        {"id": "wardrobe", "category": "wardrobe", "size": [1.5, 0.6, 2.0]},
-                        {"id": "desk", "category": "desk", "size": [1.4, 0.7, 0.75]},
+                        {"id": "wardrobe", "category": "wardrobe", "size": [2.0, 0.6, 2.0]},
+                        {"id": "desk", "category": "desk", "size": [1.6, 0.8, 0.75]},
                         {"id": "rug", "category": "rug", "size": [2.0, 1.5, 0.01]},
                         {"id": "lamp", "category": "lamp", "size": [0.3, 0.3, 0.5]},
                         {"id": "chair", "category": "chair", "size": [0.5, 0.5, 0.9]}],
             "rules": [{"rule": "on_top_of", "object": "lamp", "target": "desk"}]}
     fixed, notes = autofix(plan)
     # the bed, wardrobe, desk and chair stand on the floor (the rug is walkable, the lamp on top)
-    foot = 1.4 * 2.0 + 1.5 * 0.6 + 1.4 * 0.7 + 0.5 * 0.5
+    foot = 1.4 * 2.0 + 2.0 * 0.6 + 1.6 * 0.8 + 0.5 * 0.5  # 51% of 10.8 m²
     (x0, y0), _, (x1, y1), _ = fixed["room"]["polygon"]
     assert (x1 - x0) * (y1 - y0) == pytest.approx(foot / FILL_TARGET, rel=1e-3)
     assert (x1 - x0) / (y1 - y0) == pytest.approx(3.6 / 3, rel=1e-3)  # the shape is kept
     assert fixed["room"]["doors"][0]["offset"] == pytest.approx(3.0 * (x1 - x0) / 3.6, abs=1e-3)
-    assert any(n.startswith("room.polygon: scaled by") and "more than 45%" in n for n in notes)
+    assert any(n.startswith("room.polygon: scaled by") and "more than 50%" in n for n in notes)
     Plan.from_dict(fixed)
     # within the room type's usual size only: a bedroom is not made a hall
     plan["objects"][0] = {**plan["objects"][0], "size": [2.0, 2.4, 0.5]}

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import warnings
+from pathlib import Path
 
 import pytest
 
@@ -139,6 +140,29 @@ def test_autofix_clamps_openings_and_fixes_names():
     assert sum(r.rule == "in_corner" for r in p.rules) == 4
 
 
+def test_autofix_drops_surfaces_that_cannot_hold():
+    data = json.loads(plan([obj("sofa", "sofa", (2.0, 0.9, 0.8)),
+                            obj("table", "coffee_table", (0.5, 0.5, 0.45)),
+                            obj("lamp", "lamp", (0.2, 0.2, 0.4)),
+                            obj("vase", "vase", (0.1, 0.1, 0.3))]).to_json())
+    data["rules"] = [{"rule": "on_top", "object": "lamp", "target": "table"},
+                     {"rule": "on_top", "object": "vase", "target": "lamp"},
+                     {"rule": "on_top", "object": "lamp", "target": "sofa"},
+                     {"rule": "on_top", "object": "sofa", "target": "table"},
+                     {"rule": "on_top", "object": "table", "target": "vase"}]
+    fixed, notes = autofix(data)
+    assert [(r["object"], r["target"]) for r in fixed["rules"]] == [("lamp", "table"),
+                                                                     ("vase", "lamp")]
+    assert notes == [
+        "rules (lamp): removed on_top 'sofa' ('lamp' already rests on 'table'); it stays on the "
+        "floor",
+        "rules (sofa): removed on_top 'table' ('sofa' (2 x 0.9 m) does not fit on top of 'table' "
+        "(0.5 x 0.5 m)); it stays on the floor",
+        "rules (table): removed on_top 'vase' ('vase' already rests on 'table'); it stays on the "
+        "floor"]
+    Plan.from_dict(fixed)
+
+
 def test_validate_command_refuses_infeasible_and_warns_implausible(tmp_path, capsys):
     bad = tmp_path / "bad.json"
     bad.write_text(five_in_corner().to_json())
@@ -170,7 +194,11 @@ def test_generate_warns_before_sampling(tmp_path, capsys):
         capsys.readouterr().err
 
 
-@pytest.mark.parametrize("name", ["bedroom", "living_room"])
+SUITE = sorted(str(p) for p in (Path(__file__).parents[1] / "benchmarks").glob("plans*/*.json"))
+
+
+@pytest.mark.parametrize("name", ["bedroom", "living_room", "home_office", "l_shaped_studio",
+                                  *SUITE], ids=lambda s: Path(s).stem)
 def test_autofix_leaves_good_plans_alone(name):
     data = json.loads(fl.load_plan(name).to_json())
     fixed, notes = autofix(data)

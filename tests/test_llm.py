@@ -363,3 +363,15 @@ def test_support_bonds_of_the_scene_graph_become_on_top_rules():
     assert plan.surface_of("lamp") == "on_top"
     assert [(r.object, r.target) for r in plan.rules if r.rule == "on_top"] == [
         ("lamp", "nightstand_1")]
+
+
+@script(bedroom_script(check=False) + ["not json", "{\"issues\": [], \"plan\": {}}"])
+def test_a_self_check_that_cannot_be_used_leaves_the_plan_as_it_was(server, caplog):
+    planner = Planner(client_for(server))
+    with caplog.at_level(logging.WARNING, logger="forcelayout.llm"):
+        plan = planner.plan(PROMPT)
+    assert len(server.requests) == 6  # two self-check attempts, then the plan stands
+    assert {"bed", "desk", "plant"} <= set(plan.ids)
+    assert "its corrections could not be used" in caplog.text
+    assert planner.unresolved and planner.unresolved[-1].startswith(
+        "self_check: corrections dropped")

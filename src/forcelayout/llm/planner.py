@@ -69,6 +69,9 @@ log = logging.getLogger("forcelayout.llm")
 
 #: The planning steps in order (the ``name`` each request carries).
 STEPS = ("room", "objects", "scene_graph", "decor", "self_check")
+#: Attempts of the self-check (a refinement: when its corrections cannot be used after
+#: these, the plan stands as before the check).
+SELF_CHECK_ATTEMPTS = 2
 #: Most attempts per step a planner may be configured with.
 MAX_ATTEMPTS_CAP = 20
 
@@ -196,7 +199,10 @@ class Planner:
     decor : bool, default True
         Run step 4 (secondary decorative items); False gives the −Decor plans.
     self_check : bool, default True
-        Run step 5 (the model checks and may correct the whole plan).
+        Run step 5 (the model checks and may correct the whole plan). Its
+        corrections are kept only if they validate within
+        :data:`SELF_CHECK_ATTEMPTS` attempts; else the plan stands as before
+        the check (a warning, and a line in :attr:`unresolved`).
     max_attempts : int, default 3
         Attempts per step before :class:`PlanningError` (1 to 20).
     rules : str, default "*"
@@ -319,9 +325,18 @@ class Planner:
             draft = self._run("decor", DecorStep, values, names,
                               lambda r: self._apply_decor(r, draft, kinds))
         if self.self_check:
-            draft = self._run("self_check", SelfCheckStep,
-                              {**values, "report": self._report(draft)}, names,
-                              lambda r: self._apply_check(r, draft, kinds))
+            # a refinement of a plan that is already valid: it may not make the plan fail
+            try:
+                draft = self._run("self_check", SelfCheckStep,
+                                  {**values, "report": self._report(draft)}, names,
+                                  lambda r: self._apply_check(r, draft, kinds),
+                                  attempts=min(self.max_attempts, SELF_CHECK_ATTEMPTS))
+            except PlanningError as e:
+                reason = e.attempts[-1].reason if e.attempts else str(e)
+                log.warning("step 'self_check': its corrections could not be used; the plan "
+                            "stands as before the check (last problem: %s)", reason)
+                self.unresolved.append(f"self_check: corrections dropped ({reason})")
+                self._current = draft
         plan = Plan.from_dict(draft)
         log.info("planned %r: %d objects, %d rules; %d requests, %d repairs, %d fixes without "
                  "asking", plan.name, len(plan.objects), len(plan.rules), self.requests,
@@ -340,7 +355,8 @@ class Planner:
         return "\n".join(f"- {n}" for n in notes) if notes else "- no problems found"
 
     def _run(self, step: str, model: type[M], values: dict[str, Any],
-             rule_names: list[str] | None, apply: Callable[[M], Draft]) -> Draft:
+             rule_names: list[str] | None, apply: Callable[[M], Draft], *,
+             attempts: int | None = None) -> Draft:
         schema = schema_for(model, rule_names)
         current = self._current
         text = render(self.templates, {"room": "room", "objects": "objects",
@@ -357,7 +373,7 @@ class Planner:
         seen: dict[str, int] = {}
         best: tuple[int, Draft, list[str], list[str]] | None = None
         note = ""
-        for number in range(1, self.max_attempts + 1):
+        for number in range(1, (attempts or self.max_attempts) + 1):
             left = None if budget is None else budget - (time.monotonic() - t0)
             if left is not None and left <= 0.05:
                 note = f" (the step's time budget of {budget:g} s is used up)"

@@ -30,7 +30,7 @@ Options: ``--model FILE`` (a GGUF file instead of the PyPI one), ``--base-url``
 (a server already running; nothing is started), ``--prompts K`` (the first K
 prompts), ``--ctx`` (server context, default 16384), ``--budget-minutes``
 (stop starting new prompts after this), ``--max-tokens`` (cap on each reply,
-default 2048), ``--out FILE`` (JSON results).
+default 1536), ``--out FILE`` (JSON results).
 """
 
 from __future__ import annotations
@@ -191,7 +191,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--prompts", type=int, default=len(PROMPTS))
     ap.add_argument("--budget-minutes", type=float, default=40.0)
     ap.add_argument("--step-timeout", type=float, default=180.0)
-    ap.add_argument("--max-tokens", type=int, default=2048,
+    ap.add_argument("--max-tokens", type=int, default=1536,
                     help="cap on each reply (a runaway reply ends there, not at the timeout)")
     ap.add_argument("--record", type=Path, default=None)
     ap.add_argument("--replay", type=Path, default=None)

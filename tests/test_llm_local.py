@@ -10,6 +10,7 @@ from __future__ import annotations
 import copy
 import json
 import logging
+from pathlib import Path
 
 import pytest
 
@@ -327,3 +328,27 @@ def test_the_local_benchmark_runs_and_replays_offline(tmp_path):
     for row in (*live, *again):
         row.pop("seconds")
     assert live == again and live[0]["valid"] and live[0]["requests"] == 5
+
+
+DATA = Path(__file__).parent / "data"
+
+
+@pytest.mark.skipif(not (DATA / "llm_local_qwen1.5b.jsonl").is_file(),
+                    reason="no recording of the local model")
+def test_the_recorded_local_model_run_replays_to_the_same_plans_and_layouts():
+    """The ten prompts as Qwen2.5-Coder-1.5B answered them (docs/llm.md), replayed offline."""
+    import importlib.util
+
+    path = Path(__file__).parent.parent / "benchmarks" / "llm_local.py"
+    spec = importlib.util.spec_from_file_location("llm_local", path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    from forcelayout.llm import make_client
+
+    recorded = json.loads((DATA / "llm_local_qwen1.5b.json").read_text())
+    again = bench.run(bench.PROMPTS[:len(recorded)],
+                      make_client(replay=DATA / "llm_local_qwen1.5b.jsonl"),
+                      budget_s=3600, step_timeout=3600)
+    keys = ("prompt", "valid", "requests", "repairs", "fixes", "objects", "rules", "layouts")
+    assert [{k: r.get(k) for k in keys} for r in again] == \
+        [{k: r.get(k) for k in keys} for r in recorded]

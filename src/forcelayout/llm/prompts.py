@@ -44,7 +44,8 @@ _SYSTEM = """\
 You plan indoor scenes for a physics-based layout generator. You never give coordinates \
 of furniture: you describe the room, the objects and the rules that place them; the \
 generator finds many layouts that meet the rules. Answer every request with exactly one \
-JSON object that follows the JSON Schema given, with no other text."""
+JSON object that follows the JSON Schema given, with no other text. Write the JSON \
+compactly, without indentation, and give each rule once."""
 
 _ROOM = """\
 Scene description: "$prompt"

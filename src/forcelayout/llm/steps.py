@@ -44,8 +44,11 @@ __all__ = [
 
 #: Longest reply text parsed, characters; longer replies are rejected.
 MAX_REPLY_CHARS = 200_000
-#: Most objects one step may add.
-MAX_OBJECTS = 60
+#: Most objects one step may add (a room plan has up to about 22; the bound is also in
+#: the JSON Schema, so a server that turns the schema into a grammar stops a runaway list).
+MAX_OBJECTS = 24
+#: Most rules (and area memberships, support bonds) one step may add.
+MAX_RULES = 40
 
 
 class _Draft(BaseModel):
@@ -122,7 +125,7 @@ class ObjectsStep(_Draft):
     """Step 2: the objects with sizes, and their placement rules and relations."""
 
     objects: list[ObjectDraft] = Field(min_length=1, max_length=MAX_OBJECTS)
-    rules: list[RuleDraft] = Field(default_factory=list)
+    rules: list[RuleDraft] = Field(default_factory=list, max_length=MAX_RULES)
 
 
 class AreaRuleDraft(_Draft):
@@ -137,8 +140,9 @@ class GraphArea(_Draft):
 
     name: str
     description: str = ""
-    rules: list[AreaRuleDraft] = Field(default_factory=list)
-    objects: list[str] = Field(default_factory=list, description="Ids of the area's objects.")
+    rules: list[AreaRuleDraft] = Field(default_factory=list, max_length=MAX_RULES)
+    objects: list[str] = Field(default_factory=list, max_length=MAX_OBJECTS,
+                               description="Ids of the area's objects.")
 
 
 class SupportEdge(_Draft):
@@ -152,14 +156,14 @@ class SceneGraphStep(_Draft):
     """Step 3: the scene graph: areas -> objects, and objects resting on others."""
 
     areas: list[GraphArea] = Field(default_factory=list)
-    support: list[SupportEdge] = Field(default_factory=list)
+    support: list[SupportEdge] = Field(default_factory=list, max_length=MAX_RULES)
 
 
 class DecorStep(_Draft):
     """Step 4: secondary decorative items and their rules."""
 
     objects: list[ObjectDraft] = Field(default_factory=list, max_length=MAX_OBJECTS)
-    rules: list[RuleDraft] = Field(default_factory=list)
+    rules: list[RuleDraft] = Field(default_factory=list, max_length=MAX_RULES)
 
 
 class PlanObjectDraft(ObjectDraft):
@@ -171,7 +175,7 @@ class PlanObjectDraft(ObjectDraft):
 class PlanAreaDraft(AreaDraft):
     """A functional area of a whole plan, with its area rules."""
 
-    rules: list[AreaRuleDraft] = Field(default_factory=list)
+    rules: list[AreaRuleDraft] = Field(default_factory=list, max_length=MAX_RULES)
 
 
 class PlanDraft(_Draft):
@@ -182,7 +186,7 @@ class PlanDraft(_Draft):
     room: RoomDraft
     areas: list[PlanAreaDraft] = Field(default_factory=list)
     objects: list[PlanObjectDraft] = Field(min_length=1, max_length=3 * MAX_OBJECTS)
-    rules: list[RuleDraft] = Field(default_factory=list)
+    rules: list[RuleDraft] = Field(default_factory=list, max_length=3 * MAX_RULES)
 
 
 class SelfCheckStep(_Draft):

@@ -118,6 +118,31 @@ def test_malformed_json_is_fed_back_and_retried(server):
     assert repair[-2]["role"] == "assistant" and "not valid JSON" in repair[-1]["content"]
 
 
+def _cut_objects() -> str:
+    """The objects reply broken off inside its third rule (a server's token limit)."""
+    text = json.dumps(OBJECTS)
+    return text[:text.index('{"rule": "at_wall", "object": "desk"}') + 20]
+
+
+@script(bedroom_script()[:1] + [_cut_objects()] + bedroom_script()[2:])
+def test_a_reply_cut_off_is_read_up_to_its_last_whole_item(server):
+    planner = Planner(client_for(server))
+    plan = planner.plan(PROMPT)
+    assert len(server.requests) == 5 and planner.failed_attempts == []
+    assert [(r.rule, r.object) for r in plan.rules][:2] == [("at_wall", "bed"),
+                                                              ("next_to", "nightstand_1")]
+    assert not any(r.object == "desk" and r.rule == "at_wall" for r in plan.rules)
+    assert any("objects: the reply broke off after" in f for f in planner.fixes)
+
+
+@script(bedroom_script()[:1] + ['{"objects": [{"id": "bed", "category": "bed", "size": [1'] * 3)
+def test_a_reply_cut_off_without_a_whole_item_asks_for_a_shorter_one(server):
+    with pytest.raises(PlanningError) as err:
+        Planner(client_for(server)).plan(PROMPT)
+    assert "not valid JSON" in str(err.value) and "answer shorter" in str(err.value)
+    assert len(server.requests) == 4  # the room, then the same reply three times
+
+
 @script(bedroom_script()[:1] + [with_unknown_rule()] + bedroom_script()[1:])
 def test_unknown_rule_is_fed_back_with_its_path(server):
     planner = Planner(client_for(server))
@@ -286,7 +311,7 @@ def test_a_plugin_rule_is_offered_and_usable():
     try:
         with FakeChatServer(script) as srv:
             plan = Planner(client_for(srv)).plan(PROMPT)
-            text = srv.requests[1]["messages"][-1]["content"]
+            text = srv.requests[1]["messages"][0]["content"]  # the system message
             schema = srv.requests[1]["response_format"]["json_schema"]["schema"]
     finally:
         unregister("near_plant_llm_test")

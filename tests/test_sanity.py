@@ -163,6 +163,30 @@ def test_autofix_drops_surfaces_that_cannot_hold():
     Plan.from_dict(fixed)
 
 
+def test_autofix_resolves_opposite_rules_and_too_many_targets():
+    data = json.loads(plan([obj("sofa", "sofa", (2.0, 0.9, 0.8)),
+                            obj("table", "coffee_table", (1.0, 0.5, 0.45)),
+                            *(obj(c, "chair", (0.5, 0.5, 0.9)) for c in "abc")]).to_json())
+    data["rules"] = [{"rule": "at_wall", "object": "sofa"},
+                     {"rule": "in_middle", "object": "sofa"},
+                     {"rule": "left_of", "object": "table", "target": "sofa"},
+                     {"rule": "right_of", "object": "table", "target": "sofa"},
+                     {"rule": "right_of", "object": "a", "target": "sofa"},
+                     *({"rule": "around", "object": "table", "target": c} for c in "abc")]
+    assert {f.severity for f in plan_findings(Plan.from_dict(data))} == {"infeasible",
+                                                                        "implausible"}
+    fixed, notes = autofix(data)
+    assert [(r["rule"], r["object"], r.get("target")) for r in fixed["rules"]] == [
+        ("at_wall", "sofa", None), ("left_of", "table", "sofa"), ("right_of", "a", "sofa"),
+        ("around", "table", "a"), ("around", "table", "b")]
+    assert notes == [
+        "rules (sofa): removed in_middle, which contradicts its at_wall rule",
+        "rules (table): removed right_of 'sofa', which contradicts its left_of rule",
+        "rules (table): removed around 'c' (it is already around 'a' and 'b'; one object keeps "
+        "a relation to at most 2 targets)"]
+    assert plan_findings(Plan.from_dict(fixed)) == []
+
+
 def test_validate_command_refuses_infeasible_and_warns_implausible(tmp_path, capsys):
     bad = tmp_path / "bad.json"
     bad.write_text(five_in_corner().to_json())

@@ -22,7 +22,10 @@ itself and asks the model again only about what needs a choice:
 * more ``in_corner`` objects than the floor has convex corners: the
   extra ones become ``at_wall``;
 * an object both ``far_from`` and close to one target loses the
-  ``far_from``;
+  ``far_from``; of two opposite rules on one object (``at_wall`` and
+  ``in_middle``, ``left_of`` and ``right_of`` one target) the later is
+  dropped, and so is a positional relation of one object to more than
+  :data:`forcelayout.sanity.MAX_TARGETS` targets;
 * an off-floor rule that cannot hold is dropped (the object stays on the
   floor): a second surface for one object, a child larger than its
   parent's top (a sofa on a coffee table), a child resting on its own
@@ -65,6 +68,7 @@ from forcelayout.plan import SceneObject
 from forcelayout.rules import Rule
 from forcelayout.sanity import (
     AREA_SLACK,
+    MAX_TARGETS,
     OPENING_WORDS,
     ROOM_AREAS,
     article,
@@ -261,6 +265,48 @@ def _fix_surfaces(rules: list[Any], objects: list[dict[str, Any]], notes: list[s
     return out
 
 
+def _rule_of(r: Any) -> Rule | None:
+    """The registered rule a rule dict names, or None."""
+    if not isinstance(r, dict) or not isinstance(r.get("rule"), str) \
+            or not registry.is_registered(r["rule"]):
+        return None
+    return registry.get_rule(r["rule"])
+
+
+def _fix_contradictions(rules: list[Any], notes: list[str]) -> list[Any]:
+    """Drop the later of two opposite rules on one object, and positional relations of one
+    object beyond :data:`forcelayout.sanity.MAX_TARGETS` targets."""
+    kept: list[Any] = []
+    by_obj: dict[Any, list[tuple[str, Any]]] = {}
+    targets: dict[tuple[Any, str], list[Any]] = {}
+    for r in rules:
+        rule = _rule_of(r)
+        if rule is None:
+            kept.append(r)
+            continue
+        obj, target, name = r.get("object"), r.get("target"), r["rule"]
+        clash = next((other for other, t in by_obj.get(obj, []) if t == target and (
+            rule.opposite == other or getattr(_rule_of({"rule": other}), "opposite", None)
+            == name)), None)
+        if clash is not None:
+            notes.append(f"rules ({obj}): removed {name}"
+                         + (f" {target!r}" if target is not None else "")
+                         + f", which contradicts its {clash} rule")
+            continue
+        if rule.positional and target is not None:
+            have = targets.setdefault((obj, name), [])
+            if target not in have and len(have) >= MAX_TARGETS:
+                notes.append(f"rules ({obj}): removed {name} {target!r} (it is already {name} "
+                             f"{' and '.join(repr(t) for t in have)}; one object keeps a "
+                             f"relation to at most {MAX_TARGETS} targets)")
+                continue
+            if target not in have:
+                have.append(target)
+        by_obj.setdefault(obj, []).append((name, target))
+        kept.append(r)
+    return kept
+
+
 def _fix_room_size(data: dict[str, Any], room: dict[str, Any], notes: list[str]) -> None:
     """Scale a floor of an implausible size, or one its floor objects would crowd."""
     pts = _points(room)
@@ -445,12 +491,7 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
         seen.add(key)
         new_rules.append(r)
     # more corner objects than corners -> the extra ones become the rule's fallback
-    def declared(r: Any) -> Rule | None:
-        if not isinstance(r, dict) or not isinstance(r.get("rule"), str) \
-                or not registry.is_registered(r["rule"]):
-            return None
-        return registry.get_rule(r["rule"])
-
+    declared = _rule_of
     if isinstance(room, dict):
         try:
             corners = convex_corners(room.get("polygon") or [])
@@ -480,6 +521,7 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
                          "which contradicts a rule that keeps them close")
             continue
         final.append(r)
+    final = _fix_contradictions(final, notes)
     out["rules"] = _fix_surfaces(final, kept, notes)
     if isinstance(room, dict):
         _fix_room_size(out, room, notes)

@@ -41,7 +41,7 @@ from forcelayout.plan import Plan
 from forcelayout.rules import Rule
 
 __all__ = ["Finding", "plan_findings", "CATEGORY_SIZES", "ROOM_AREAS", "OPENING_WORDS",
-           "category_key", "convex_corners", "room_kind", "Severity"]
+           "category_key", "convex_corners", "room_kind", "Severity", "MAX_TARGETS"]
 
 Severity = Literal["infeasible", "implausible"]
 
@@ -105,7 +105,8 @@ ROOM_AREAS: dict[str, tuple[tuple[str, ...], tuple[float, float]]] = {
 _SIZE_SLACK = 1.5      # a size is "far" from its range beyond this factor
 AREA_SLACK = 1.3      # a floor area is "far" from its room type's range beyond this
 _MAX_ASPECT = 2.5      # longer side / shorter side of an ordinary room
-_MAX_TARGETS = 2       # distinct targets of one positional relation per object
+#: Distinct targets of one positional relation (``left_of``, ``around``, ...) per object.
+MAX_TARGETS = 2
 
 
 
@@ -359,11 +360,11 @@ def _rule_findings(plan: Plan) -> Iterable[Finding]:
             if r.target not in {plan.rules[j].target for j in ks}:
                 ks.append(k)
     for (oid, rule), ks in targets.items():
-        if len(ks) > _MAX_TARGETS:
+        if len(ks) > MAX_TARGETS:
             yield Finding(f"rules[{ks[-1]}] ({rule})", f"{oid!r} is {rule} {len(ks)} targets "
                           f"({', '.join(repr(plan.rules[j].target) for j in ks)})",
-                          f"keep it {rule} at most {_MAX_TARGETS} of them (drop "
-                          f"{', '.join(f'rules[{j}]' for j in ks[_MAX_TARGETS:])})",
+                          f"keep it {rule} at most {MAX_TARGETS} of them (drop "
+                          f"{', '.join(f'rules[{j}]' for j in ks[MAX_TARGETS:])})",
                           refs=tuple(f"rules[{j}]" for j in ks))
 
 

@@ -14,7 +14,13 @@ from typing import Any
 
 from forcelayout.llm.client import ChatClient, LLMRequestError
 from forcelayout.llm.planner import Attempt, Planner, PlanningError
-from forcelayout.llm.prompts import DEFAULT_TEMPLATES, PromptTemplates, render
+from forcelayout.llm.prompts import (
+    DEFAULT_TEMPLATES,
+    PromptTemplates,
+    render,
+    vocabulary,
+    vocabulary_text,
+)
 from forcelayout.llm.steps import PromptList, ReplyError, parse_reply, schema_for
 from forcelayout.plan import Plan
 
@@ -55,7 +61,10 @@ def expand_prompts(
         raise ValueError(f"k={k!r}; ask for 1 to {MAX_VARIANTS} descriptions")
     templates = templates or DEFAULT_TEMPLATES
     schema = schema_for(PromptList)
-    values = {"room_type": " ".join(room_type.split()), "k": int(k), "prompt": room_type}
+    # the system message is the planner's (vocabulary included), so a server's prompt cache
+    # serves the planning requests that usually follow
+    values = {"room_type": " ".join(room_type.split()), "k": int(k), "prompt": room_type,
+              "vocabulary": vocabulary_text(vocabulary())}
     base = [{"role": "system", "content": render(templates, "system", **values)},
             {"role": "user", "content": render(templates, "expand", **values,
                                                schema=json.dumps(schema))}]

@@ -56,6 +56,7 @@ from forcelayout.llm.steps import (
     RuleDraft,
     SceneGraphStep,
     SelfCheckStep,
+    close_cut_reply,
     parse_reply,
     schema_for,
 )
@@ -317,8 +318,7 @@ class Planner:
         draft = self._run("objects", ObjectsStep, values, names,
                           lambda r: self._apply_objects(r, draft, kinds))
         unary = [i for i in infos if i.kind == "unary"]
-        draft = self._run("scene_graph", SceneGraphStep,
-                          {**values, "vocabulary": _vocabulary_text(unary, detail=self.detail)},
+        draft = self._run("scene_graph", SceneGraphStep, values,
                           [i.name for i in unary] or names,
                           lambda r: self._apply_graph(r, draft, kinds))
         if self.decor:
@@ -399,7 +399,7 @@ class Planner:
             seen[key] = repeats + 1
             fixes_before = len(self.fixes)
             try:
-                draft = apply(parse_reply(reply, model))
+                draft = apply(self._parse(step, reply, model))
             except (ReplyError, _Problems) as e:
                 problems = list(e.problems)
                 del self.fixes[fixes_before:]
@@ -437,6 +437,22 @@ class Planner:
             self._current = draft
             return draft
         raise PlanningError(step, self.failed_attempts, note=note)
+
+    def _parse(self, step: str, reply: str, model: type[M]) -> M:
+        """Parse a reply; one cut off at the token limit is read up to its last whole item."""
+        try:
+            return parse_reply(reply, model)
+        except ReplyError as first:
+            closed = close_cut_reply(reply)
+            if closed is None:
+                raise
+            try:
+                parsed = parse_reply(closed, model)
+            except ReplyError:
+                raise first from None
+            self._note(step, f"the reply broke off after {len(reply)} characters (the "
+                       "server's token limit?); read up to its last whole list item")
+            return parsed
 
     def _findings(self, step: str, draft: Draft) -> list[str]:
         """The library's findings about what this step added, as problems for the model."""

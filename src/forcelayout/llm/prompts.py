@@ -45,7 +45,14 @@ You plan indoor scenes for a physics-based layout generator. You never give coor
 of furniture: you describe the room, the objects and the rules that place them; the \
 generator finds many layouts that meet the rules. Answer every request with exactly one \
 JSON object that follows the JSON Schema given, with no other text. Write the JSON \
-compactly, without indentation, and give each rule once."""
+compactly, without indentation, and give each rule once: a few rules that matter beat many \
+that restate each other.
+
+$conventions
+
+The placement rules, the only ones you may use (unary rules take no target; binary \
+rules, on_top and above need a target object id):
+$vocabulary"""
 
 _ROOM = """\
 Scene description: "$prompt"
@@ -54,8 +61,6 @@ Step 1 of 5: room properties and functional areas.
 Choose a plausible room for the description: its floor polygon (usually a rectangle, an \
 L-shape when the description suggests it), ceiling height, doors and windows; and 2 to 4 \
 functional areas (e.g. sleeping, work, storage, seating).
-
-$conventions
 
 Answer with JSON following this schema:
 $schema"""
@@ -66,13 +71,8 @@ Scene description: "$prompt"
 Step 2 of 5: the furniture and its placement rules.
 List the main (non-decorative) objects this room needs, each with a realistic size, its \
 functional area and whether it is primary (main furniture a person must reach). Then give \
-the placement rules and pairwise relations that make the room functional. Use only these \
-rules; unary rules take no target; binary rules, on_top and above need a target \
-object id:
-
-$vocabulary
-
-$conventions
+the placement rules and pairwise relations that make the room functional: one or two rules \
+for each object, using only the rules of the system message.
 
 The plan so far:
 $plan
@@ -87,9 +87,8 @@ Step 3 of 5: the scene graph.
 Group the objects into the functional areas (every object id in at most one area) and give \
 each area its placement rules (e.g. at_wall for a sleeping area). List support bonds: an \
 object that rests on top of another (a lamp on a nightstand) as \
-{"object": child id, "parent": parent id}. Area rules may use only these rules:
-
-$vocabulary
+{"object": child id, "parent": parent id}. Area rules may use only the unary rules \
+(no target).
 
 The plan so far:
 $plan
@@ -104,11 +103,7 @@ Step 4 of 5: secondary decorative items.
 Add the small and decorative items that make the room look lived-in (plants, lamps, \
 pictures, ceiling lights) with realistic sizes and rules that place them: on_top of \
 furniture, on walls, on the ceiling, or on the floor next to furniture. Use new unique ids \
-and only these rules:
-
-$vocabulary
-
-$conventions
+and only the rules of the system message.
 
 The plan so far:
 $plan
@@ -125,12 +120,8 @@ $report
 
 Check the plan for these problems and for furniture the description asks for but the \
 plan lacks. If the check found no problems and nothing is missing, answer \
-{"issues": [], "plan": null}. Otherwise list the issues and give the whole corrected plan. \
-Use only these rules:
-
-$vocabulary
-
-$conventions
+{"issues": [], "plan": null}. Otherwise list the issues and give the whole corrected plan, \
+using only the rules of the system message.
 
 The plan:
 $plan

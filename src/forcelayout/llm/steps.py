@@ -37,6 +37,7 @@ __all__ = [
     "PromptList",
     "ReplyError",
     "parse_reply",
+    "close_cut_reply",
     "schema_for",
     "MAX_REPLY_CHARS",
     "MAX_OBJECTS",
@@ -246,8 +247,76 @@ def _json_in(body: str) -> Any:
         except json.JSONDecodeError as e:
             errors.append(e)
     last = errors[-1]  # the most specific candidate: the fence's or the braces' content
+    cut = " ".join(errors[0].doc.split()) and errors[0].pos >= len(errors[0].doc.rstrip()) \
+        and errors[0].msg.startswith(("Expecting", "Unterminated"))
     raise ReplyError([f"(reply): not valid JSON: {last.msg} at line {last.lineno} column "
-                      f"{last.colno}"])
+                      f"{last.colno}"] + (["(reply): it breaks off before its end (the "
+                                           "server's token limit?); answer shorter: compact "
+                                           "JSON without indentation, fewer rules"] if cut
+                                          else []))
+
+
+def close_cut_reply(text: str) -> str | None:
+    """Close a JSON reply that broke off (at the server's token limit) after its last whole
+    list item.
+
+    A reply cut off inside a long list (the 30th rule of an object step) is
+    read up to the last object (or list) item of a list that was complete,
+    and every open list and object is closed. Only a reply that is a valid start of one JSON object
+    is closed.
+
+    Parameters
+    ----------
+    text : str
+        The reply.
+
+    Returns
+    -------
+    str or None
+        The closed JSON text, or None if the reply is complete, is not one
+        JSON object cut off, or has no whole list item to keep.
+
+    Examples
+    --------
+    >>> close_cut_reply('{"objects": [{"id": "bed"}, {"id": "des')
+    '{"objects": [{"id": "bed"}]}'
+    """
+    body = text.strip()
+    start = body.find("{")
+    if start < 0:
+        return None
+    body = body[start:]
+    stack: list[str] = []
+    cut: tuple[int, str] | None = None  # (end of the last whole list item, closers then)
+    in_str = escape = False
+    for i, ch in enumerate(body):
+        if in_str:
+            if escape:
+                escape = False
+            elif ch == "\\":
+                escape = True
+            elif ch == '"':
+                in_str = False
+            continue
+        if ch == '"':
+            in_str = True
+        elif ch in "[{":
+            stack.append("]" if ch == "[" else "}")
+        elif ch in "]}":
+            if not stack or stack.pop() != ch:
+                return None
+            if not stack:  # the object closed: the reply is whole (or has trailing text)
+                return None
+            if stack[-1] == "]":  # a whole object or list item of a list
+                cut = (i + 1, "".join(reversed(stack)))
+    if not stack or cut is None:
+        return None
+    closed = body[:cut[0]] + cut[1]
+    try:
+        json.loads(closed)
+    except json.JSONDecodeError:
+        return None
+    return closed
 
 
 def parse_reply(text: str, model: type[_Draft]) -> Any:

@@ -98,7 +98,8 @@ def start_server(model: Path, port: int, ctx: int, python: str = sys.executable,
     threads = str(os.cpu_count() or 2)
     if binary is not None:  # llama.cpp's llama-server: the same OpenAI-compatible /v1
         cmd = [str(binary), "--model", str(model), "--ctx-size", str(ctx), "--host",
-               "127.0.0.1", "--port", str(port), "--alias", MODEL_NAME, "--threads", threads]
+               "127.0.0.1", "--port", str(port), "--alias", MODEL_NAME, "--threads", threads,
+               "--parallel", "1"]  # one slot: each request reuses the last one's prefix
     else:
         if subprocess.run([python, "-c", "import llama_cpp.server.app"],
                           capture_output=True).returncode != 0:

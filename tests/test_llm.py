@@ -340,16 +340,42 @@ def test_templates_can_be_overridden():
         Planner(make_client(replay=_example_recording()), templates=bad).plan(PROMPT)
 
 
-def test_self_check_correction_replaces_the_plan():
-    merged = {**json.loads(bedroom_script()[0]), "objects": OBJECTS["objects"],
-              "rules": OBJECTS["rules"]}
-    merged["objects"] = [*merged["objects"][:3]]           # drop the chair ...
-    merged["rules"] = merged["rules"][:3]                   # ... and its rule
-    check = json.dumps({"issues": ["the chair is not needed"], "plan": merged})
+def test_self_check_correction_given_at_once_replaces_the_plan():
+    check = json.dumps({"issues": ["the chair is not needed"], "plan": _without_the_chair()})
     script = bedroom_script(check=False) + [check]
     with FakeChatServer(script) as srv:
-        plan = Planner(client_for(srv)).plan(PROMPT)
+        planner = Planner(client_for(srv))
+        plan = planner.plan(PROMPT)
+    assert plan.ids == ["bed", "nightstand_1", "desk"] and planner.requests == 5
+
+
+def _without_the_chair() -> dict:
+    merged = {**json.loads(bedroom_script()[0]), "objects": OBJECTS["objects"][:3],
+              "rules": OBJECTS["rules"][:3]}
+    return merged
+
+
+def test_self_check_lists_problems_then_a_correction_is_asked_for():
+    issues = json.dumps({"issues": ["the chair is not needed"]})
+    fixed = json.dumps({"issues": [], "plan": _without_the_chair()})
+    with FakeChatServer(bedroom_script(check=False) + [issues, fixed]) as srv:
+        planner = Planner(client_for(srv))
+        plan = planner.plan(PROMPT)
+        check, correct = srv.requests[4], srv.requests[5]
     assert plan.ids == ["bed", "nightstand_1", "desk"]
+    assert planner.requests == 6 and planner.failed_attempts == []
+    # the check asks for the problems only; the correction gets them
+    assert set(check["response_format"]["json_schema"]["schema"]["properties"]) == {"issues"}
+    assert "- the chair is not needed" in correct["messages"][-1]["content"]
+    assert "plan" in correct["response_format"]["json_schema"]["schema"]["properties"]
+
+
+def test_a_plan_repeated_without_problems_is_not_used():
+    check = json.dumps({"issues": [], "plan": _without_the_chair()})
+    with FakeChatServer(bedroom_script(check=False) + [check]) as srv:
+        planner = Planner(client_for(srv))
+        plan = planner.plan(PROMPT)
+    assert "desk_chair" in plan.ids and planner.requests == 5
 
 
 def test_client_needs_a_key_or_a_server(monkeypatch):

@@ -187,6 +187,19 @@ def test_autofix_resolves_opposite_rules_and_too_many_targets():
     assert plan_findings(Plan.from_dict(fixed)) == []
 
 
+def test_an_extra_corner_object_already_at_the_wall_loses_its_corner_rule():
+    data = json.loads(plan([obj(f"chair_{k}", "chair", (0.5, 0.5, 0.9)) for k in range(6)]
+                           ).to_json())
+    data["rules"] = [*({"rule": "in_corner", "object": f"chair_{k}"} for k in range(6)),
+                     {"rule": "at_wall", "object": "chair_5"}]
+    fixed, notes = autofix(data)
+    assert [(r["rule"], r["object"]) for r in fixed["rules"]][4:] == [
+        ("at_wall", "chair_4"), ("at_wall", "chair_5")]
+    assert notes[1] == ("rules (chair_5): removed in_corner (the room has 4 convex corners for 6 "
+                        "in_corner objects; it is already at_wall)")
+    assert plan_findings(Plan.from_dict(fixed)) == []
+
+
 def test_validate_command_refuses_infeasible_and_warns_implausible(tmp_path, capsys):
     bad = tmp_path / "bad.json"
     bad.write_text(five_in_corner().to_json())

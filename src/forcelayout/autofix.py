@@ -500,14 +500,24 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
         in_corner = [r for r in new_rules if (rule := declared(r)) is not None
                      and rule.start is not None and rule.start.place == "corner"]
         names = "/".join(dict.fromkeys(r["rule"] for r in in_corner))
+        have = {(r.get("rule"), r.get("object"), r.get("target")) for r in new_rules
+                if isinstance(r, dict)}
+        dropped: list[Any] = []
         for r in in_corner[corners:]:
             fallback = registry.get_rule(r["rule"]).fallback
             if fallback is None or not registry.is_registered(fallback):
                 continue
-            notes.append(f"rules ({r.get('object')}): {r['rule']} -> {fallback} (the room has "
-                         f"{corners} convex corners for {len(in_corner)} {names} objects)")
+            why = f"the room has {corners} convex corners for {len(in_corner)} {names} objects"
+            if (fallback, r.get("object"), r.get("target")) in have:
+                notes.append(f"rules ({r.get('object')}): removed {r['rule']} ({why}; it is "
+                             f"already {fallback})")
+                dropped.append(r)
+                continue
+            notes.append(f"rules ({r.get('object')}): {r['rule']} -> {fallback} ({why})")
             r["rule"] = fallback
             r["params"] = {}
+            have.add((fallback, r.get("object"), r.get("target")))
+        new_rules = [r for r in new_rules if not any(r is d for d in dropped)]
     # far and close to the same target -> drop the far rule
     close_pairs = {frozenset((r.get("object"), r.get("target"))) for r in new_rules
                    if (rule := declared(r)) is not None and rule.closeness == "close"

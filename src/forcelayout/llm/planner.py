@@ -10,7 +10,9 @@ Steps (paper §III-A), each one request with structured output:
    bonds (an object on top of another);
 4. ``decor`` — secondary decorative items (off with ``decor=False``, the
    paper's −Decor condition);
-5. ``self_check`` — the model checks the whole plan and may correct it.
+5. ``self_check`` — the model lists the plan's problems (given the
+   library's own report); only if it lists some, ``correction`` asks for the
+   corrected plan.
 
 After each step the plan so far is validated by :class:`forcelayout.Plan`;
 a reply that does not parse or fails validation is sent back with every
@@ -48,6 +50,7 @@ from forcelayout.llm.client import (
 from forcelayout.llm.prompts import DEFAULT_TEMPLATES, PromptTemplates, render, vocabulary
 from forcelayout.llm.prompts import vocabulary_text as _vocabulary_text
 from forcelayout.llm.steps import (
+    CheckIssues,
     DecorStep,
     ObjectsStep,
     PlanDraft,
@@ -69,7 +72,7 @@ __all__ = ["Planner", "PlanningError", "Attempt", "plan_from_prompt", "make_clie
 log = logging.getLogger("forcelayout.llm")
 
 #: The planning steps in order (the ``name`` each request carries).
-STEPS = ("room", "objects", "scene_graph", "decor", "self_check")
+STEPS = ("room", "objects", "scene_graph", "decor", "self_check", "correction")
 #: Attempts of the self-check (a refinement: when its corrections cannot be used after
 #: these, the plan stands as before the check).
 SELF_CHECK_ATTEMPTS = 2
@@ -200,8 +203,9 @@ class Planner:
     decor : bool, default True
         Run step 4 (secondary decorative items); False gives the −Decor plans.
     self_check : bool, default True
-        Run step 5 (the model checks and may correct the whole plan). Its
-        corrections are kept only if they validate within
+        Run step 5: the model lists the plan's problems (a short reply) and,
+        only if it lists some, gives the corrected plan. Corrections are kept
+        only if they validate within
         :data:`SELF_CHECK_ATTEMPTS` attempts; else the plan stands as before
         the check (a warning, and a line in :attr:`unresolved`).
     max_attempts : int, default 3
@@ -327,10 +331,7 @@ class Planner:
         if self.self_check:
             # a refinement of a plan that is already valid: it may not make the plan fail
             try:
-                draft = self._run("self_check", SelfCheckStep,
-                                  {**values, "report": self._report(draft)}, names,
-                                  lambda r: self._apply_check(r, draft, kinds),
-                                  attempts=min(self.max_attempts, SELF_CHECK_ATTEMPTS))
+                draft = self._check(draft, values, names, kinds)
             except PlanningError as e:
                 reason = e.attempts[-1].reason if e.attempts else str(e)
                 log.warning("step 'self_check': its corrections could not be used; the plan "
@@ -342,6 +343,31 @@ class Planner:
                  "asking", plan.name, len(plan.objects), len(plan.rules), self.requests,
                  len(self.failed_attempts), len(self.fixes))
         return plan
+
+    def _check(self, draft: Draft, values: dict[str, Any], names: list[str],
+               kinds: dict[str, str]) -> Draft:
+        """Step 5: ask for the plan's problems; only if there are some, for the corrections."""
+        attempts = min(self.max_attempts, SELF_CHECK_ATTEMPTS)
+        found: list[str] = []
+
+        def listed(r: SelfCheckStep) -> Draft:
+            found[:] = [" ".join(i.split()) for i in r.issues if i.strip()]
+            if r.plan is not None and found:  # the corrected plan came at once
+                return self._apply_check(r, draft, kinds)
+            if r.plan is not None:
+                log.info("step 'self_check': no problems listed; the plan it repeated is not "
+                         "used")
+            return draft
+
+        checked = self._run("self_check", SelfCheckStep,
+                            {**values, "report": self._report(draft)}, names, listed,
+                            attempts=attempts, schema_model=CheckIssues)
+        if not found or checked is not draft:
+            return checked
+        log.info("step 'self_check' found: %s", "; ".join(found))
+        return self._run("correction", SelfCheckStep,
+                         {**values, "issues": "\n".join(f"- {i}" for i in found)}, names,
+                         lambda r: self._apply_check(r, draft, kinds), attempts=attempts)
 
     def _report(self, draft: Draft) -> str:
         """The library's findings about a draft, as text for the self-check prompt."""
@@ -356,13 +382,16 @@ class Planner:
 
     def _run(self, step: str, model: type[M], values: dict[str, Any],
              rule_names: list[str] | None, apply: Callable[[M], Draft], *,
-             attempts: int | None = None) -> Draft:
-        schema = schema_for(model, rule_names)
+             attempts: int | None = None, schema_model: type[BaseModel] | None = None
+             ) -> Draft:
+        # the schema asked for may be a part of what the reply is read as (the self-check
+        # asks for its issues only and still takes a corrected plan given at once)
+        schema = schema_for(schema_model or model, rule_names)
         current = self._current
         text = render(self.templates, {"room": "room", "objects": "objects",
                                        "scene_graph": "graph", "decor": "decor",
-                                       "self_check": "check"}[step],
-                      **{"report": "", **values},
+                                       "self_check": "check", "correction": "correct"}[step],
+                      **{"report": "", "issues": "", **values},
                       schema=json.dumps(schema, separators=(",", ":")),
                       plan=json.dumps(current, separators=(",", ":")) if current else "{}")
         base = [{"role": "system", "content": render(self.templates, "system", **values)},
@@ -483,7 +512,7 @@ class Planner:
             return True
 
         out = [str(f) for f in plan_findings(plan) if mine(f) and str(f) not in self.unresolved]
-        if step in ("objects", "self_check"):
+        if step in ("objects", "self_check", "correction"):
             from forcelayout.diagnose import feasibility
 
             feas = feasibility(plan)
@@ -657,8 +686,6 @@ class Planner:
         return new
 
     def _apply_check(self, r: SelfCheckStep, draft: Draft, kinds: dict[str, str]) -> Draft:
-        if r.issues:
-            log.info("self-check found: %s", "; ".join(r.issues))
         if r.plan is None:
             return draft
         p: PlanDraft = r.plan

@@ -14,7 +14,8 @@ registry, so plugin rules are offered automatically), ``$plan`` (the plan so
 far, JSON), ``$schema`` (the step's JSON Schema) and, in ``expand``,
 ``$room_type`` and ``$k``. ``repair`` gets ``$problems``; ``check`` gets
 ``$report``, the library's own findings about the plan
-(:func:`forcelayout.diagnose.feasibility`).
+(:func:`forcelayout.diagnose.feasibility`); ``correct`` gets ``$issues``, the
+problems the check listed.
 """
 
 from __future__ import annotations
@@ -118,10 +119,25 @@ Step 5 of 5: check the plan.
 The layout generator's own check of the plan below found:
 $report
 
-Check the plan for these problems and for furniture the description asks for but the \
-plan lacks. If the check found no problems and nothing is missing, answer \
-{"issues": [], "plan": null}. Otherwise list the issues and give the whole corrected plan, \
-using only the rules of the system message.
+List the problems of the plan: the ones above, furniture the description asks for but the \
+plan lacks, objects of an absurd size, rules that contradict each other. Each problem in one \
+short sentence; an empty list if there are none. Do not repeat the plan.
+
+The plan:
+$plan
+
+Answer with JSON following this schema:
+$schema"""
+
+_CORRECT = """\
+Scene description: "$prompt"
+
+Step 5 of 5, continued: correct the plan.
+These problems were found in the plan below:
+$issues
+
+Give the whole corrected plan, using only the rules of the system message. Change only what \
+the problems need.
 
 The plan:
 $plan
@@ -154,7 +170,10 @@ class PromptTemplates:
     system : str
         System message of every request.
     room, objects, graph, decor, check : str
-        User message of planning steps 1-5.
+        User message of planning steps 1-5 (``check`` asks for the problems only).
+    correct : str
+        User message asking for the corrected plan once the check found problems
+        (``$issues``).
     repair : str
         Message sent after an unusable reply; ``$problems`` lists what was wrong.
     expand : str
@@ -169,6 +188,7 @@ class PromptTemplates:
     graph: str = _GRAPH
     decor: str = _DECOR
     check: str = _CHECK
+    correct: str = _CORRECT
     repair: str = _REPAIR
     expand: str = _EXPAND
     conventions: str = _CONVENTIONS

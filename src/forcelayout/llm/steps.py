@@ -34,6 +34,8 @@ __all__ = [
     "DecorStep",
     "PlanDraft",
     "SelfCheckStep",
+    "CheckIssues",
+    "MAX_ISSUES",
     "PromptList",
     "ReplyError",
     "parse_reply",
@@ -196,6 +198,19 @@ class SelfCheckStep(_Draft):
     issues: list[str] = Field(default_factory=list,
                               description="Logical problems found; empty if none.")
     plan: PlanDraft | None = Field(None, description="The corrected plan, or null.")
+
+
+#: Most issues one self-check reply lists.
+MAX_ISSUES = 8
+
+
+class CheckIssues(_Draft):
+    """Step 5, first request: only the problems the model finds (no plan), so a plan without
+    problems costs a reply of a few tokens; a second request asks for the corrections."""
+
+    issues: list[str] = Field(default_factory=list, max_length=MAX_ISSUES,
+                              description="Problems found, each one short sentence; empty if "
+                                          "none.")
 
 
 class PromptList(_Draft):

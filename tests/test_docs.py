@@ -53,6 +53,7 @@ PUBLIC_MODULES = (
     "forcelayout.validate",
     "forcelayout.sanity",
     "forcelayout.autofix",
+    "forcelayout.relax",
     "forcelayout.diagnose",
     "forcelayout.render",
     "forcelayout.views",

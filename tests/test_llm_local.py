@@ -10,10 +10,12 @@ from __future__ import annotations
 import copy
 import json
 import logging
+import warnings
 from pathlib import Path
 
 import pytest
 
+import forcelayout as fl
 from fake_openai import CHECK_OK, DECOR, GRAPH, OBJECTS, ROOM, FakeChatServer, bedroom_script
 from forcelayout import Plan
 from forcelayout.cli import main
@@ -354,3 +356,22 @@ def test_the_recorded_local_model_run_replays_to_the_same_plans_and_layouts():
     keys = ("prompt", "valid", "requests", "repairs", "fixes", "objects", "rules", "layouts")
     assert [{k: r.get(k) for k in keys} for r in again] == \
         [{k: r.get(k) for k in keys} for r in recorded]
+
+
+def test_a_plan_no_layout_meets_is_relaxed_by_trial_runs():
+    stuck = with_rules({"rule": "in_corner", "object": "nightstand_1"},
+                       {"rule": "in_corner", "object": "desk_chair"},
+                       {"rule": "next_to", "object": "desk_chair", "target": "nightstand_1"},
+                       {"rule": "next_to", "object": "nightstand_1", "target": "desk_chair"})
+    with FakeChatServer(script(objects=stuck) * 2) as srv:
+        kept = Planner(OpenAIChatClient(base_url=srv.url, model="fake", timeout=5),
+                       relax=False).plan(PROMPT)
+        planner = Planner(OpenAIChatClient(base_url=srv.url, model="fake", timeout=5))
+        plan = planner.plan(PROMPT)
+    trial = [f for f in planner.fixes if f.startswith("trial: ")]
+    assert trial and all("failed samples" in f for f in trial)
+    assert len(plan.rules) == len(kept.rules) - len(trial)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert len(fl.generate(kept, 3, max_attempts=12)) < 3
+        assert len(fl.generate(plan, 3, max_attempts=12)) == 3

@@ -51,6 +51,8 @@ def add_client_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--llm-attempts", type=int, default=3,
                    help="attempts per planning step (default 3)")
     p.add_argument("--no-self-check", action="store_true", help="skip the self-check step")
+    p.add_argument("--no-relax", action="store_true",
+                   help="keep every rule even if trial samples show no layout meets them")
     p.add_argument("--record", type=Path, default=None,
                    help="write every request and reply to this JSONL file")
     p.add_argument("--replay", type=Path, default=None,
@@ -99,6 +101,7 @@ def setup_logging(args: argparse.Namespace) -> None:
 
 def _planner_kwargs(args: argparse.Namespace) -> dict[str, Any]:
     return {"self_check": not getattr(args, "no_self_check", False),
+            "relax": not getattr(args, "no_relax", False),
             "max_attempts": 3 if getattr(args, "llm_attempts", None) is None
             else args.llm_attempts,
             "step_timeout": getattr(args, "llm_timeout", None) or 300.0}

@@ -64,6 +64,7 @@ from forcelayout.llm.steps import (
     schema_for,
 )
 from forcelayout.plan import Plan
+from forcelayout.relax import relax
 from forcelayout.rules import RuleInfo, is_registered
 from forcelayout.sanity import Finding, plan_findings
 
@@ -217,6 +218,10 @@ class Planner:
         Seconds one step may take, all its requests and repairs included
         (each request gets what is left; the SDK makes no retries of its own).
         Default: the client's ``timeout`` attribute, else no limit.
+    relax : bool, default True
+        Try the finished plan (:func:`forcelayout.relax.relax`: a few trial
+        samples) and drop the floor rules that keep it from yielding layouts;
+        each rule dropped is a line of :attr:`fixes` (``trial: ...``).
     detail : bool, default False
         Show each rule's whole docstring in the prompts; by default only its
         summary, parameters and one example (prompts about half as long).
@@ -238,6 +243,7 @@ class Planner:
         self, client: ChatClient, *, templates: PromptTemplates | None = None,
         decor: bool = True, self_check: bool = True, max_attempts: int = 3, rules: str = "*",
         step_timeout: float | None = None, feasibility: bool = True, detail: bool = False,
+        relax: bool = True,
     ):
         if not 1 <= int(max_attempts) <= MAX_ATTEMPTS_CAP:
             raise ValueError(f"max_attempts={max_attempts!r}; give 1 to {MAX_ATTEMPTS_CAP}")
@@ -258,6 +264,7 @@ class Planner:
         self.step_timeout = step_timeout
         self.feasibility = bool(feasibility)
         self.detail = bool(detail)
+        self.relax = bool(relax)
         #: Failed attempts of the last :meth:`plan` call (empty if all went first time).
         self.failed_attempts: list[Attempt] = []
         #: What the last :meth:`plan` call fixed without asking the model, one line each.
@@ -339,6 +346,13 @@ class Planner:
                 self.unresolved.append(f"self_check: corrections dropped ({reason})")
                 self._current = draft
         plan = Plan.from_dict(draft)
+        if self.relax:
+            t = time.monotonic()
+            plan, notes = relax(plan)
+            for n in notes:
+                log.info("trial runs: %s", n)
+            self.fixes.extend(f"trial: {n}" for n in notes)
+            log.info("trial runs of the plan took %.1f s", time.monotonic() - t)
         log.info("planned %r: %d objects, %d rules; %d requests, %d repairs, %d fixes without "
                  "asking", plan.name, len(plan.objects), len(plan.rules), self.requests,
                  len(self.failed_attempts), len(self.fixes))

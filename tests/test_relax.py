@@ -1,0 +1,61 @@
+"""Trial runs that drop the rules no layout meets (forcelayout.relax)."""
+
+from __future__ import annotations
+
+import warnings
+
+import pytest
+
+import forcelayout as fl
+from forcelayout import Plan
+from forcelayout.relax import relax
+
+ROOM = {"polygon": [[0, 0], [5, 0], [5, 4], [0, 4]], "doors": [{"wall": 0, "offset": 2.5}]}
+
+
+def stuck_plan() -> Plan:
+    """Two cabinets tucked into corners that must also stand next to each other, and a lamp on
+    one of them: no layout meets 95 % of these rules."""
+    objects = [{"id": "cab_a", "category": "cabinet", "size": [0.6, 0.5, 0.9]},
+               {"id": "cab_b", "category": "cabinet", "size": [0.6, 0.5, 0.9]},
+               {"id": "desk", "category": "desk", "size": [1.2, 0.6, 0.75]},
+               {"id": "lamp", "category": "lamp", "size": [0.2, 0.2, 0.4]}]
+    rules = [{"rule": "in_corner", "object": "cab_a"}, {"rule": "in_corner", "object": "cab_b"},
+             {"rule": "next_to", "object": "cab_a", "target": "cab_b"},
+             {"rule": "next_to", "object": "cab_b", "target": "cab_a"},
+             {"rule": "at_wall", "object": "desk"},
+             {"rule": "on_top", "object": "lamp", "target": "cab_a"}]
+    return Plan.from_dict({"name": "storage_room", "room": ROOM, "objects": objects,
+                           "rules": rules})
+
+
+def layouts(plan: Plan) -> int:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return len(fl.generate(plan, 3, max_attempts=12, seed=5))
+
+
+def test_a_plan_no_layout_meets_loses_the_rules_its_samples_miss():
+    plan = stuck_plan()
+    assert layouts(plan) == 0
+    relaxed, notes = relax(plan)
+    assert notes and all(n.startswith("removed ") and "failed samples" in n for n in notes)
+    dropped = {r.rule + "/" + r.object for r in plan.rules} - \
+        {r.rule + "/" + r.object for r in relaxed.rules}
+    assert dropped and len(relaxed.rules) == len(plan.rules) - len(notes)
+    # the surface rule stays: the lamp keeps its support
+    assert any(r.rule == "on_top" and r.object == "lamp" for r in relaxed.rules)
+    assert layouts(relaxed) >= 1
+    # the same plan and seed relax the same way
+    assert relax(plan) == (relaxed, notes)
+
+
+def test_a_plan_that_yields_stands_as_it_is():
+    plan = fl.load_plan("bedroom")
+    relaxed, notes = relax(plan)
+    assert relaxed is plan and notes == []
+
+
+def test_bad_arguments_are_refused():
+    with pytest.raises(ValueError, match="positive"):
+        relax(stuck_plan(), samples=0)

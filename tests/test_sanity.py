@@ -200,6 +200,20 @@ def test_an_extra_corner_object_already_at_the_wall_loses_its_corner_rule():
     assert plan_findings(Plan.from_dict(fixed)) == []
 
 
+def test_areas_tucked_into_corners_the_objects_took_go_to_the_wall():
+    data = json.loads(plan([obj(f"chair_{k}", "chair", (0.5, 0.5, 0.9)) for k in range(3)],
+                           [{"rule": "in_corner", "object": f"chair_{k}"} for k in range(3)],
+                           areas=[{"name": "a", "rules": [{"rule": "in_corner"}]},
+                                  {"name": "b", "rules": [{"rule": "in_corner"},
+                                                          {"rule": "at_wall"}]}]).to_json())
+    assert plan_findings(Plan.from_dict(data))[0].severity == "infeasible"
+    fixed, notes = autofix(data)
+    assert notes == ["areas[1].rules[0]: in_corner -> at_wall (the room's 4 convex corners are "
+                     "taken)"]
+    assert [x["rule"] for x in fixed["areas"][1]["rules"]] == ["at_wall"]
+    assert plan_findings(Plan.from_dict(fixed)) == []
+
+
 def test_validate_command_refuses_infeasible_and_warns_implausible(tmp_path, capsys):
     bad = tmp_path / "bad.json"
     bad.write_text(five_in_corner().to_json())

@@ -19,8 +19,8 @@ itself and asks the model again only about what needs a choice:
   categories are written in lower case with underscores;
 * duplicated rules are dropped;
 * doors and windows listed as objects are removed with their rules;
-* more ``in_corner`` objects than the floor has convex corners: the
-  extra ones become ``at_wall``;
+* more ``in_corner`` objects (and areas) than the floor has convex
+  corners: the extra ones become ``at_wall``;
 * an object both ``far_from`` and close to one target loses the
   ``far_from``; of two opposite rules on one object (``at_wall`` and
   ``in_middle``, ``left_of`` and ``right_of`` one target) the later is
@@ -518,6 +518,31 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
             r["params"] = {}
             have.add((fallback, r.get("object"), r.get("target")))
         new_rules = [r for r in new_rules if not any(r is d for d in dropped)]
+        # areas tucked into corners take what the objects left
+        left = max(corners - min(len(in_corner), corners), 0)
+        for i, area in enumerate(out.get("areas") or []):
+            if not isinstance(area, dict) or not isinstance(area.get("rules"), list):
+                continue
+            for j, x in enumerate(area["rules"]):
+                rule = declared(x)
+                if rule is None or rule.start is None or rule.start.place != "corner":
+                    continue
+                if left > 0:
+                    left -= 1
+                    continue
+                fallback = rule.fallback
+                if fallback is None or not registry.is_registered(fallback):
+                    continue
+                notes.append(f"areas[{i}].rules[{j}]: {x['rule']} -> {fallback} (the room's "
+                             f"{corners} convex corners are taken)")
+                x["rule"] = fallback
+                x["params"] = {}
+            # the fallback may now repeat a rule of the area
+            unique: dict[str, Any] = {}
+            for x in area["rules"]:
+                key = repr((x.get("rule"), x.get("params"))) if isinstance(x, dict) else repr(x)
+                unique.setdefault(key, x)
+            area["rules"] = list(unique.values())
     # far and close to the same target -> drop the far rule
     close_pairs = {frozenset((r.get("object"), r.get("target"))) for r in new_rules
                    if (rule := declared(r)) is not None and rule.closeness == "close"

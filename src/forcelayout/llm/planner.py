@@ -66,7 +66,7 @@ from forcelayout.llm.steps import (
 from forcelayout.plan import Plan
 from forcelayout.relax import relax
 from forcelayout.rules import RuleInfo, is_registered
-from forcelayout.sanity import Finding, plan_findings
+from forcelayout.sanity import Finding, article, category_key, plan_findings
 
 __all__ = ["Planner", "PlanningError", "Attempt", "plan_from_prompt", "make_client", "STEPS"]
 
@@ -365,7 +365,14 @@ class Planner:
         found: list[str] = []
 
         def listed(r: SelfCheckStep) -> Draft:
-            found[:] = [" ".join(i.split()) for i in r.issues if i.strip()]
+            found[:] = []
+            for issue in (" ".join(i.split()) for i in r.issues if i.strip()):
+                has = _claimed_missing(issue, draft)
+                if has is None:
+                    found.append(issue)
+                else:
+                    self._note("self_check", f"dropped the issue {issue!r}: the plan has "
+                                             f"{article(has)} {has.replace('_', ' ')}")
             if r.plan is not None and found:  # the corrected plan came at once
                 return self._apply_check(r, draft, kinds)
             if r.plan is not None:
@@ -723,6 +730,31 @@ class Planner:
         if problems:
             raise _Problems(_dedupe(problems))
         return new
+
+
+_ABSENT = re.compile(r"\b(?:lacks?|lacking|is missing|are missing|missing|has no|have no|"
+                     r"there is no|there are no|without)\b\s+(.+)", re.IGNORECASE)
+_MORE = re.compile(r"\b(?:second|third|another|more|two|three|four|five|six|extra|"
+                   r"additional|enough|\d+)\b", re.IGNORECASE)
+
+
+def _claimed_missing(issue: str, draft: Draft) -> str | None:
+    """If ``issue`` says the plan lacks a kind of object it has, that kind; else None.
+
+    Only plain claims of absence are checked ("the plan lacks a bed"); one asking for more
+    of a kind ("a second bed", "two chairs") is left to the model.
+    """
+    m = _ABSENT.search(issue)
+    if m is None or _MORE.search(m.group(1)):
+        return None
+    phrase = re.split(r"[.;,]| for | to | in | near | by | and ", m.group(1))[0]
+    key = category_key(phrase)
+    if key is None:
+        return None
+    for o in draft.get("objects") or []:
+        if key in (category_key(str(o.get("category", ""))), category_key(str(o.get("id", "")))):
+            return key
+    return None
 
 
 def _dedupe(items: list[str]) -> list[str]:

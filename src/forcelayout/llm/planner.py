@@ -363,6 +363,7 @@ class Planner:
         """Step 5: ask for the plan's problems; only if there are some, for the corrections."""
         attempts = min(self.max_attempts, SELF_CHECK_ATTEMPTS)
         found: list[str] = []
+        ids = {str(o.get("id")) for o in draft.get("objects") or []}
 
         def listed(r: SelfCheckStep) -> Draft:
             found[:] = []
@@ -372,7 +373,8 @@ class Planner:
                     found.append(issue)
                 else:
                     self._note("self_check", f"dropped the issue {issue!r}: the plan has "
-                                             f"{article(has)} {has.replace('_', ' ')}")
+                                             + (repr(has) if has in ids else
+                                                f"{article(has)} {has.replace('_', ' ')}"))
             if r.plan is not None and found:  # the corrected plan came at once
                 return self._apply_check(r, draft, kinds)
             if r.plan is not None:
@@ -745,9 +747,17 @@ def _claimed_missing(issue: str, draft: Draft) -> str | None:
     of a kind ("a second bed", "two chairs") is left to the model.
     """
     m = _ABSENT.search(issue)
-    if m is None or _MORE.search(m.group(1)):
+    if m is None:
         return None
     phrase = re.split(r"[.;,]| for | to | in | near | by | and ", m.group(1))[0]
+    words = [w for w in re.split(r"[^a-z0-9]+", phrase.lower()) if w]
+    while words and words[0] in ("a", "an", "the", "any"):
+        words = words[1:]
+    for o in draft.get("objects") or []:  # an id: "the nightstand 3" for nightstand_3
+        if "_".join(words) == str(o.get("id", "")).lower() and o.get("category"):
+            return str(o.get("id"))
+    if _MORE.search(phrase):
+        return None
     key = category_key(phrase)
     if key is None:
         return None

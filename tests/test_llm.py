@@ -373,18 +373,21 @@ def test_self_check_lists_problems_then_a_correction_is_asked_for():
 def test_a_claimed_absence_of_what_the_plan_has_is_dropped_without_asking():
     issues = json.dumps({"issues": ["The plan lacks a bed.", "There is no desk chair",
                                     "The plan lacks the nightstand 1.",
+                                    "There are no bedside tables.",
                                     "The plan lacks a second bed."]})
     fixed = json.dumps({"issues": [], "plan": _without_the_chair()})
     with FakeChatServer(bedroom_script(check=False) + [issues, fixed]) as srv:
         planner = Planner(client_for(srv))
         planner.plan(PROMPT)
         correct = srv.requests[5]["messages"][-1]["content"]
-    assert "self_check: dropped the issue 'The plan lacks a bed.': the plan has a bed" \
+    assert "self_check: dropped the issue 'The plan lacks a bed.': the plan has 'bed'" \
         in planner.fixes
-    assert "self_check: dropped the issue 'There is no desk chair': the plan has a chair" \
-        in planner.fixes
+    assert "self_check: dropped the issue 'There is no desk chair': the plan has " \
+        "'desk_chair'" in planner.fixes
     assert "self_check: dropped the issue 'The plan lacks the nightstand 1.': the plan has " \
         "'nightstand_1'" in planner.fixes
+    assert "self_check: dropped the issue 'There are no bedside tables.': the plan has a " \
+        "nightstand" in planner.fixes
     assert "- The plan lacks a second bed." in correct and "lacks a bed." not in correct
 
 

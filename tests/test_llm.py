@@ -373,7 +373,7 @@ def test_self_check_lists_problems_then_a_correction_is_asked_for():
 def test_a_claimed_absence_of_what_the_plan_has_is_dropped_without_asking():
     issues = json.dumps({"issues": ["The plan lacks a bed.", "There is no desk chair",
                                     "The plan lacks the nightstand 1.",
-                                    "There are no bedside tables.",
+                                    "The plan has no bedside table.",
                                     "The plan lacks a second bed."]})
     fixed = json.dumps({"issues": [], "plan": _without_the_chair()})
     with FakeChatServer(bedroom_script(check=False) + [issues, fixed]) as srv:
@@ -386,7 +386,7 @@ def test_a_claimed_absence_of_what_the_plan_has_is_dropped_without_asking():
         "'desk_chair'" in planner.fixes
     assert "self_check: dropped the issue 'The plan lacks the nightstand 1.': the plan has " \
         "'nightstand_1'" in planner.fixes
-    assert "self_check: dropped the issue 'There are no bedside tables.': the plan has a " \
+    assert "self_check: dropped the issue 'The plan has no bedside table.': the plan has a " \
         "nightstand" in planner.fixes
     assert "- The plan lacks a second bed." in correct and "lacks a bed." not in correct
 

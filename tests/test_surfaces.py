@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 import forcelayout as fl
 from forcelayout.errors import PlanError
 from forcelayout.surfaces import check_surfaces, free_wall_stretches
+from forcelayout.validate import check_layout
 
 ROOM = {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]], "height": 2.7,
         "doors": [{"wall": 0, "offset": 1.0, "width": 0.9}],
@@ -172,6 +173,28 @@ def test_crowded_top_reports_the_missing_object_with_a_reason():
     assert all("stool" in m for m in lay.report.missing)
     placed_or_missing = set(lay.poses) | {m.split(":")[0] for m in lay.report.missing}
     assert placed_or_missing == {"stool", "a", "b"}
+
+
+@settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 2**31), n=st.integers(2, 6))
+def test_a_crowded_top_that_can_hold_its_objects_holds_them(seed, n):
+    """n boxes of 0.1 x 0.1 m on a 0.2 x 0.4 m shelf top: up to 75 % of it covered."""
+    plan = {
+        "name": "shelf",
+        "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]]},
+        "objects": [{"id": "shelf", "category": "bookshelf", "size": [0.2, 0.4, 0.7]},
+                    *({"id": f"box_{k}", "category": "box", "size": [0.1, 0.1, 0.1]}
+                      for k in range(n))],
+        "rules": [{"rule": "at_wall", "object": "shelf"},
+                  *({"rule": "on_top", "object": f"box_{k}", "target": "shelf"}
+                    for k in range(n))],
+    }
+    lay = fl.solve(plan, seed, check=False)
+    assert lay.report.missing == []
+    for k in range(n):
+        assert lay.poses[f"box_{k}"].surface == "shelf"
+        assert _inside_top(lay, f"box_{k}", "shelf")
+    assert check_layout(lay).failures == []
 
 
 @settings(max_examples=6, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -4,7 +4,9 @@ The top is a rectangle "room" of the parent's width x depth in the parent's
 frame; the children are simulated there with their rules between each other
 (a rule whose start hint is a wall or corner, such as ``at_wall``, means the
 top's edge), then carried to the room at ``z`` = parent's ``z`` + parent's
-height.
+height. A top too crowded for the simulation to settle (four boxes on a
+0.2 x 0.4 m shelf) has its objects set out in rows instead, in a random
+order; only objects that cannot fit at all are reported missing.
 """
 
 from __future__ import annotations
@@ -97,6 +99,10 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
     fpos, fyaw = _clamp_inside(res.pos, res.yaw, size, pw, pd)
     if not _fits_rect(fpos, fyaw, size, pw, pd):
         fpos, fyaw = pos, yaw
+    if not _fits_rect(fpos, fyaw, size, pw, pd):  # a crowded top: set them out in rows
+        packed = _rows(size, pw, pd, rng.permutation(len(kids)))
+        if packed is not None:
+            fpos, fyaw = packed
     if not _fits_rect(fpos, fyaw, size, pw, pd):
         out.missing.extend(f"{k}: no room for it on top of {parent!r} beside the other objects "
                            "there" for k in kids)
@@ -107,6 +113,46 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
     for k, (x, y), t in zip(kids, fpos.tolist(), fyaw.tolist(), strict=True):
         a = (t + P.yaw + np.pi) % (2 * np.pi) - np.pi
         poses[k] = Pose(P.x + c * x - s * y, P.y + s * x + c * y, float(a), float(z), parent)
+
+
+def _rows(size: np.ndarray, w: float, d: float, order: np.ndarray
+          ) -> tuple[np.ndarray, np.ndarray] | None:
+    """Footprints set out in rows across a ``w x d`` top (in ``order``, each turned to be
+    shallow where that is what fits), the spare room shared out between them; None if they do
+    not fit."""
+    n = len(size)
+    foot = np.empty((n, 2))
+    yaw = np.zeros(n)
+    for k in range(n):
+        a, b = float(size[k, 0]), float(size[k, 1])
+        if (b > a and b <= w + 1e-9) or a > w + 1e-9:  # the long side along the top's width
+            a, b, yaw[k] = b, a, np.pi / 2
+        if a > w + 1e-9 or b > d + 1e-9:
+            return None
+        foot[k] = a, b
+    rows: list[list[int]] = [[]]
+    used = 0.0
+    for k in order.tolist():
+        if rows[-1] and used + foot[k, 0] > w + 1e-9:
+            rows.append([])
+            used = 0.0
+        rows[-1].append(k)
+        used += foot[k, 0]
+    depths = [max(foot[k, 1] for k in row) for row in rows]
+    spare_y = d - sum(depths)
+    if spare_y < -1e-9:
+        return None
+    pos = np.zeros((n, 2))
+    gy = spare_y / (len(rows) + 1)
+    y = -d / 2 + gy
+    for row, depth in zip(rows, depths, strict=True):
+        gx = (w - sum(foot[k, 0] for k in row)) / (len(row) + 1)
+        x = -w / 2 + gx
+        for k in row:
+            pos[k] = x + foot[k, 0] / 2, y + depth / 2
+            x += foot[k, 0] + gx
+        y += depth + gy
+    return pos, yaw
 
 
 def _min_gap(pos: np.ndarray, yaw: np.ndarray, size: np.ndarray, *, last_only: bool = False

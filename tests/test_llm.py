@@ -391,6 +391,25 @@ def test_a_claimed_absence_of_what_the_plan_has_is_dropped_without_asking():
     assert "- The plan lacks a second bed." in correct and "lacks a bed." not in correct
 
 
+def test_no_problems_listed_as_a_problem_asks_for_nothing_more():
+    issues = json.dumps({"issues": ["no problems found", "None."]})
+    with FakeChatServer(bedroom_script(check=False) + [issues]) as srv:
+        planner = Planner(client_for(srv))
+        planner.plan(PROMPT)
+    assert planner.requests == 5
+
+
+def test_a_correction_cut_off_is_not_read_as_a_shorter_plan():
+    issues = json.dumps({"issues": ["the chair is not needed"]})
+    whole = json.dumps({"issues": [], "plan": _without_the_chair()})
+    cut = whole[:whole.index('"rules"') + 40]
+    with FakeChatServer(bedroom_script(check=False) + [issues, cut, cut]) as srv:
+        planner = Planner(client_for(srv))
+        plan = planner.plan(PROMPT)
+    assert "desk_chair" in plan.ids and len(plan.rules) >= 4   # the plan before the check
+    assert any("corrections dropped" in u for u in planner.unresolved)
+
+
 def test_a_plan_repeated_without_problems_is_not_used():
     check = json.dumps({"issues": [], "plan": _without_the_chair()})
     with FakeChatServer(bedroom_script(check=False) + [check]) as srv:

@@ -368,6 +368,8 @@ class Planner:
         def listed(r: SelfCheckStep) -> Draft:
             found[:] = []
             for issue in (" ".join(i.split()) for i in r.issues if i.strip()):
+                if _NO_PROBLEM.match(issue):  # "no problems found" is not a problem
+                    continue
                 has = _claimed_missing(issue, draft)
                 if has is None:
                     found.append(issue)
@@ -495,7 +497,8 @@ class Planner:
         try:
             return parse_reply(reply, model)
         except ReplyError as first:
-            closed = close_cut_reply(reply)
+            # a corrected plan cut off would lose the rest of the plan: not for the correction
+            closed = close_cut_reply(reply) if step != "correction" else None
             if closed is None:
                 raise
             try:
@@ -734,6 +737,9 @@ class Planner:
         return new
 
 
+_NO_PROBLEM = re.compile(r"^\W*(?:-\s*)?(?:no (?:problems?|issues?)(?: (?:were |was )?found)?|"
+                         r"none|nothing(?: is)? missing|n/?a|ok|the plan is (?:fine|ok|"
+                         r"correct|complete))\W*$", re.IGNORECASE)
 _ABSENT = re.compile(r"\b(?:lacks?|lacking|is missing|are missing|missing|has no|have no|"
                      r"there is no|there are no|without)\b\s+(.+)", re.IGNORECASE)
 _MORE = re.compile(r"\b(?:second|third|another|more|two|three|four|five|six|extra|"

@@ -95,6 +95,12 @@ def model_file(cache: Path = CACHE) -> Path:
 def start_server(model: Path, port: int, ctx: int, python: str = sys.executable,
                  binary: Path | None = None) -> subprocess.Popen:
     """llama-cpp-python's server (or llama.cpp's own ``binary``) on 127.0.0.1:port."""
+    import socket
+
+    with socket.socket() as sock:  # a server still answering there would be taken for ours
+        if sock.connect_ex(("127.0.0.1", port)) == 0:
+            raise SystemExit(f"port {port} is in use (a server still running?); stop it, or "
+                             "give --port or --base-url")
     threads = str(os.cpu_count() or 2)
     if binary is not None:  # llama.cpp's llama-server: the same OpenAI-compatible /v1
         cmd = [str(binary), "--model", str(model), "--ctx-size", str(ctx), "--host",

@@ -28,7 +28,8 @@ Or llama.cpp's own server, built from source with CMake (``cmake -B build
 
 Options: ``--model FILE`` (a GGUF file instead of the PyPI one), ``--base-url``
 (a server already running; nothing is started), ``--prompts K`` (the first K
-prompts), ``--ctx`` (server context, default 16384), ``--budget-minutes``
+prompts), ``--skip K`` (leave out the first K, to go on with a run that
+stopped), ``--ctx`` (server context, default 16384), ``--budget-minutes``
 (stop starting new prompts after this), ``--max-tokens`` (cap on each reply,
 default 1536), ``--out FILE`` (JSON results).
 """
@@ -196,6 +197,8 @@ def main(argv: list[str] | None = None) -> int:
                          "llama-cpp-python's server")
     ap.add_argument("--ctx", type=int, default=16384)
     ap.add_argument("--prompts", type=int, default=len(PROMPTS))
+    ap.add_argument("--skip", type=int, default=0,
+                    help="leave out the first K prompts (to go on with a run that stopped)")
     ap.add_argument("--budget-minutes", type=float, default=40.0)
     ap.add_argument("--step-timeout", type=float, default=180.0)
     ap.add_argument("--max-tokens", type=int, default=1536,
@@ -210,7 +213,7 @@ def main(argv: list[str] | None = None) -> int:
         logging.basicConfig(level=logging.INFO, format="%(levelname)s: %(message)s")
     from forcelayout.llm import make_client
 
-    prompts = PROMPTS[: args.prompts]
+    prompts = PROMPTS[args.skip: args.prompts]
     proc = None
     try:
         if args.replay is not None:

@@ -116,7 +116,8 @@ def relax(plan: Plan, *, samples: int = TRIAL_SAMPLES, wanted: int = TRIAL_LAYOU
         missed = _missed(failed)
         keys = {_binding(r): r for r in current.rules if _droppable(r.rule)}
         ranked = [(b, k) for b, k in missed.most_common() if b in keys]
-        drop = [b for b, k in ranked if 2 * k >= len(failed)][:_PER_ROUND] or ranked[:1]
+        drop = [b for b, k in ranked if 2 * k >= len(failed)][:_PER_ROUND] or \
+            [b for b, _ in ranked[:1]]
         if not drop or number == rounds:
             notes.append(f"trial {number}: {len(gen)} of {wanted} layouts from {len(gen.reports)} "
                          f"samples; " + ("nothing more to drop" if not drop else

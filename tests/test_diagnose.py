@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from forcelayout import Plan, SampleReport
-from forcelayout.diagnose import Feasibility, dominant_cause, feasibility
+from forcelayout.diagnose import Feasibility, dominant_cause, feasibility, missed_rules
 from forcelayout.examples import list_plans
 
 
@@ -161,3 +161,12 @@ def test_one_failure_line_counts_once_per_sample_and_odd_lines_do_not_crash():
     assert dominant_cause(iter([fail("reachable: 'bed' cannot be reached from door 0 "
                                      "(the walls leave no way through)")])) == (
         "100 % of samples fail 'reachable' (most often bed)")
+
+
+def test_missed_rules_reads_the_rules_line_of_a_rejected_sample():
+    failures = ["missing: lamp: its parent 'desk' was not placed",
+                "rules: 60% met, below 95%; unmet: next_to(nightstand_2,bed), at_wall(desk), "
+                "next_to(nightstand_2, bed)",
+                "reachable: 'desk' cannot be reached (blocked by 'bed')"]
+    assert missed_rules(failures) == ["next_to(nightstand_2, bed)", "at_wall(desk)"]
+    assert missed_rules(["navigable: 20 % free"]) == []

@@ -40,8 +40,9 @@ from forcelayout.plan import MAX_FLOOR_FILL, Plan
 from forcelayout.sanity import Finding, plan_findings
 from forcelayout.sources import load_plan
 
-__all__ = ["Feasibility", "feasibility", "dominant_cause", "WALL_PLACES", "FeasibilityWarning",
-           "FewLayoutsWarning", "EmptyGenerationError", "feasibility_warnings_as_lines"]
+__all__ = ["Feasibility", "feasibility", "dominant_cause", "missed_rules", "WALL_PLACES",
+           "FeasibilityWarning", "FewLayoutsWarning", "EmptyGenerationError",
+           "feasibility_warnings_as_lines"]
 
 #: Start-hint places (:attr:`StartHint.place`) that put an object against a wall.
 WALL_PLACES = frozenset({"wall", "corner"})
@@ -396,6 +397,35 @@ def _pct(k: int, n: int) -> str:
     return f"{100.0 * k / n:.0f} %"
 
 
+def missed_rules(failures: Iterable[str]) -> list[str]:
+    """The rule bindings a rejected sample misses, from its ``rules:`` failure line.
+
+    Parameters
+    ----------
+    failures : iterable of str
+        A sample's failure lines (``SampleReport.failures``).
+
+    Returns
+    -------
+    list of str
+        Each binding once, as the rule check names it, in order.
+
+    Examples
+    --------
+    >>> missed_rules(["rules: 80% met, below 95%; unmet: next_to(nightstand_2, bed), "
+    ...               "at_wall(desk)", "reachable: 'desk' cannot be reached"])
+    ['next_to(nightstand_2, bed)', 'at_wall(desk)']
+    """
+    out: dict[str, None] = {}
+    for line in failures:
+        check, colon, reason = line.partition(":")
+        if not colon or check.strip() != "rules":
+            continue
+        for name, args in _BINDING.findall(reason.partition("unmet:")[2]):
+            out[f"{name}({', '.join(a.strip() for a in args.split(','))})"] = None
+    return list(out)
+
+
 def dominant_cause(reports: Iterable[Any]) -> str | None:
     """The most common reason samples failed, in one line.
 
@@ -445,10 +475,7 @@ def dominant_cause(reports: Iterable[Any]) -> str | None:
             reason = reason.strip()
             seen_checks[check] = None
             if check == "rules":
-                _, _, unmet = reason.partition("unmet:")
-                for name, args in _BINDING.findall(unmet):
-                    binding = f"{name}({', '.join(a.strip() for a in args.split(','))})"
-                    seen_missed[binding] = None
+                seen_missed.update(dict.fromkeys(missed_rules([line])))
                 continue
             block = _BLOCKERS.search(reason)
             if block:

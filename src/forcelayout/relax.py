@@ -27,6 +27,7 @@ from collections import Counter
 from typing import Any
 
 from forcelayout import rules as registry
+from forcelayout.diagnose import missed_rules
 from forcelayout.plan import Plan
 
 __all__ = ["relax", "TRIAL_SAMPLES", "TRIAL_LAYOUTS", "TRIAL_ROUNDS"]
@@ -52,17 +53,8 @@ def _droppable(name: str) -> bool:
 
 
 def _missed(reports: list[Any]) -> Counter[str]:
-    """How many failed samples miss each rule binding (from their ``rules:`` failure line)."""
-    counts: Counter[str] = Counter()
-    for r in reports:
-        for line in r.failures:
-            check, _, reason = line.partition(":")
-            if check.strip() != "rules":
-                continue
-            unmet = reason.partition("unmet:")[2]
-            # bindings are "name(a, b)" joined by ", ": split on the closing parenthesis
-            counts.update({b.strip(" ,") + ")" for b in unmet.split(")") if b.strip(" ,")})
-    return counts
+    """How many failed samples miss each rule binding."""
+    return Counter(b for r in reports for b in missed_rules(r.failures))
 
 
 def relax(plan: Plan, *, samples: int = TRIAL_SAMPLES, wanted: int = TRIAL_LAYOUTS,

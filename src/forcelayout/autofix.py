@@ -86,7 +86,7 @@ FILL_LIMIT = 0.5
 FILL_TARGET = 0.45
 
 
-def _declared() -> list[Rule]:
+def __rule_of() -> list[Rule]:
     """Every registered rule whose class can be loaded (its declarations drive the fixes)."""
     out = []
     for name in registry.available_rules():
@@ -104,7 +104,7 @@ def rule_aliases() -> dict[str, str]:
     is itself a registered name.
     """
     claims: dict[str, set[str]] = {}
-    for rule in _declared():
+    for rule in __rule_of():
         for alias in rule.aliases:
             claims.setdefault(alias, set()).add(rule.name)
     return {a: next(iter(names)) for a, names in sorted(claims.items())
@@ -124,7 +124,7 @@ def _feature_rules() -> dict[str, dict[str, str]]:
     rule declaring that feature and specialising it (``near_window``).
     """
     out: dict[str, dict[str, str]] = {}
-    for rule in _declared():
+    for rule in __rule_of():
         if rule.feature is not None:
             meant = out.setdefault(rule.feature, {})
             for general in rule.specialises:
@@ -277,7 +277,7 @@ def _fix_contradictions(rules: list[Any], notes: list[str]) -> list[Any]:
     """Drop the later of two opposite rules on one object, and positional relations of one
     object beyond :data:`forcelayout.sanity.MAX_TARGETS` targets."""
     kept: list[Any] = []
-    by_obj: dict[Any, list[tuple[str, Any]]] = {}
+    by_obj: dict[Any, list[tuple[str, Rule, Any]]] = {}
     targets: dict[tuple[Any, str], list[Any]] = {}
     for r in rules:
         rule = _rule_of(r)
@@ -285,9 +285,8 @@ def _fix_contradictions(rules: list[Any], notes: list[str]) -> list[Any]:
             kept.append(r)
             continue
         obj, target, name = r.get("object"), r.get("target"), r["rule"]
-        clash = next((other for other, t in by_obj.get(obj, []) if t == target and (
-            rule.opposite == other or getattr(_rule_of({"rule": other}), "opposite", None)
-            == name)), None)
+        clash = next((other for other, o_rule, t in by_obj.get(obj, []) if t == target and (
+            rule.opposite == other or o_rule.opposite == name)), None)
         if clash is not None:
             notes.append(f"rules ({obj}): removed {name}"
                          + (f" {target!r}" if target is not None else "")
@@ -302,7 +301,7 @@ def _fix_contradictions(rules: list[Any], notes: list[str]) -> list[Any]:
                 continue
             if target not in have:
                 have.append(target)
-        by_obj.setdefault(obj, []).append((name, target))
+        by_obj.setdefault(obj, []).append((name, rule, target))
         kept.append(r)
     return kept
 
@@ -491,13 +490,12 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
         seen.add(key)
         new_rules.append(r)
     # more corner objects than corners -> the extra ones become the rule's fallback
-    declared = _rule_of
     if isinstance(room, dict):
         try:
             corners = convex_corners(room.get("polygon") or [])
         except (TypeError, ValueError, IndexError):
             corners = 4
-        in_corner = [r for r in new_rules if (rule := declared(r)) is not None
+        in_corner = [r for r in new_rules if (rule := _rule_of(r)) is not None
                      and rule.start is not None and rule.start.place == "corner"]
         names = "/".join(dict.fromkeys(r["rule"] for r in in_corner))
         have = {(r.get("rule"), r.get("object"), r.get("target")) for r in new_rules
@@ -519,12 +517,12 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
             have.add((fallback, r.get("object"), r.get("target")))
         new_rules = [r for r in new_rules if not any(r is d for d in dropped)]
         # areas tucked into corners take what the objects left
-        left = max(corners - min(len(in_corner), corners), 0)
+        left = max(corners - len(in_corner), 0)
         for i, area in enumerate(out.get("areas") or []):
             if not isinstance(area, dict) or not isinstance(area.get("rules"), list):
                 continue
             for j, x in enumerate(area["rules"]):
-                rule = declared(x)
+                rule = _rule_of(x)
                 if rule is None or rule.start is None or rule.start.place != "corner":
                     continue
                 if left > 0:
@@ -545,11 +543,11 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
             area["rules"] = list(unique.values())
     # far and close to the same target -> drop the far rule
     close_pairs = {frozenset((r.get("object"), r.get("target"))) for r in new_rules
-                   if (rule := declared(r)) is not None and rule.closeness == "close"
+                   if (rule := _rule_of(r)) is not None and rule.closeness == "close"
                    and r.get("target")}
     final = []
     for r in new_rules:
-        rule = declared(r)
+        rule = _rule_of(r)
         if rule is not None and rule.closeness == "far" and \
                 frozenset((r.get("object"), r.get("target"))) in close_pairs:
             notes.append(f"rules ({r.get('object')}): removed {r['rule']} {r.get('target')!r}, "

@@ -363,7 +363,6 @@ class Planner:
         """Step 5: ask for the plan's problems; only if there are some, for the corrections."""
         attempts = min(self.max_attempts, SELF_CHECK_ATTEMPTS)
         found: list[str] = []
-        ids = {str(o.get("id")) for o in draft.get("objects") or []}
 
         def listed(r: SelfCheckStep) -> Draft:
             found[:] = []
@@ -374,9 +373,7 @@ class Planner:
                 if has is None:
                     found.append(issue)
                 else:
-                    self._note("self_check", f"dropped the issue {issue!r}: the plan has "
-                                             + (repr(has) if has in ids else
-                                                f"{article(has)} {has.replace('_', ' ')}"))
+                    self._note("self_check", f"dropped the issue {issue!r}: the plan has {has}")
             if r.plan is not None and found:  # the corrected plan came at once
                 return self._apply_check(r, draft, kinds)
             if r.plan is not None:
@@ -747,7 +744,8 @@ _MORE = re.compile(r"\b(?:second|third|another|more|two|three|four|five|six|extr
 
 
 def _claimed_missing(issue: str, draft: Draft) -> str | None:
-    """If ``issue`` says the plan lacks a kind of object it has, that kind; else None.
+    """If ``issue`` says the plan lacks an object it has, what it has (``'nightstand_3'``, ``a
+    coffee table``); else None.
 
     Only plain claims of absence are checked ("the plan lacks a bed"); one asking for more
     of a kind ("a second bed", "two chairs") is left to the model.
@@ -761,7 +759,7 @@ def _claimed_missing(issue: str, draft: Draft) -> str | None:
         words = words[1:]
     for o in draft.get("objects") or []:  # an id: "the nightstand 3" for nightstand_3
         if "_".join(words) == str(o.get("id", "")).lower() and o.get("category"):
-            return str(o.get("id"))
+            return repr(str(o.get("id")))
     if _MORE.search(phrase):
         return None
     key = category_key(phrase)
@@ -769,7 +767,7 @@ def _claimed_missing(issue: str, draft: Draft) -> str | None:
         return None
     for o in draft.get("objects") or []:
         if key in (category_key(str(o.get("category", ""))), category_key(str(o.get("id", "")))):
-            return key
+            return f"{article(key)} {key.replace('_', ' ')}"
     return None
 
 

@@ -262,8 +262,9 @@ def _json_in(body: str) -> Any:
         except json.JSONDecodeError as e:
             errors.append(e)
     last = errors[-1]  # the most specific candidate: the fence's or the braces' content
-    cut = " ".join(errors[0].doc.split()) and errors[0].pos >= len(errors[0].doc.rstrip()) \
-        and errors[0].msg.startswith(("Expecting", "Unterminated"))
+    whole = errors[0]  # the reply as a whole: does it end before its JSON does?
+    cut = whole.pos >= len(whole.doc.rstrip()) and \
+        whole.msg.startswith(("Expecting", "Unterminated"))
     raise ReplyError([f"(reply): not valid JSON: {last.msg} at line {last.lineno} column "
                       f"{last.colno}"] + (["(reply): it breaks off before its end (the "
                                            "server's token limit?); answer shorter: compact "

@@ -466,3 +466,14 @@ def test_a_self_check_that_cannot_be_used_leaves_the_plan_as_it_was(server, capl
     assert "its corrections could not be used" in caplog.text
     assert planner.unresolved and planner.unresolved[-1].startswith(
         "self_check: corrections dropped")
+
+
+def test_close_cut_reply_keeps_whole_items_only():
+    from forcelayout.llm.steps import close_cut_reply
+
+    assert close_cut_reply('{"objects": [{"id": "bed"}, {"id": "des') == \
+        '{"objects": [{"id": "bed"}]}'
+    assert close_cut_reply('{"objects": [{"id": "b}]ed"}, {"size": [1, 2') == \
+        '{"objects": [{"id": "b}]ed"}]}'
+    assert close_cut_reply('{"objects": [{"id": "bed", "size": [1, 2') is None  # no whole item
+    assert close_cut_reply('{"objects": []}') is None                          # not cut off

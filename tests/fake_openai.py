@@ -52,8 +52,8 @@ class FakeChatServer:
         (e.g. llama-cpp-python's HTTP 500 for ``json_schema``).
     echo_schema : bool, default False
         Answer a request without ``response_format`` with the JSON Schema
-        its prompt ends with (what small models do when nothing constrains
-        them), using no scripted reply.
+        its prompt ends with, else the room step's (what small models do when
+        nothing constrains them), using no scripted reply.
     context : int, optional
         The context length in tokens (characters / 4): a longer request gets
         HTTP 400 "maximum context length is N tokens" without using a reply.
@@ -145,6 +145,9 @@ class FakeChatServer:
                 text = body["messages"][-1]["content"]
                 if "schema:\n" in text:
                     return text.rsplit("schema:\n", 1)[1]
+                from forcelayout.llm.steps import RoomStep, schema_for
+
+                return json.dumps(schema_for(RoomStep))
             if not self.replies:
                 return {"status": 500, "message": "the fake server's script is exhausted"}
             return self.replies.pop(0)

@@ -253,8 +253,9 @@ def test_server_without_structured_output_gets_json_in_text():
         plan = Planner(client).plan(PROMPT)
         assert "bed" in plan.ids and client.mode == "none"
         assert all("response_format" not in r for r in srv.requests)
-        # the schema is still in the prompt text
-        assert '"RuleDraft"' in srv.requests[1]["messages"][-1]["content"]
+        # the reply's keys are still in the prompt text, in the schema's order
+        text = srv.requests[1]["messages"][-1]["content"]
+        assert text.index("- rule:") < text.index("- object:") < text.index("- target")
 
 
 def test_replay_of_a_recorded_run_gives_the_identical_plan(tmp_path):
@@ -389,6 +390,56 @@ def test_a_claimed_absence_of_what_the_plan_has_is_dropped_without_asking():
     assert "self_check: dropped the issue 'The plan has no bedside table.': the plan has a " \
         "nightstand" in planner.fixes
     assert "- The plan lacks a second bed." in correct and "lacks a bed." not in correct
+
+
+def test_a_claimed_absence_of_what_the_description_does_not_ask_for_is_dropped():
+    issues = json.dumps({"issues": ["The plan lacks a ceiling light.", "There are no pictures",
+                                    "The plan lacks the description of the beds."]})
+    with FakeChatServer(bedroom_script(check=False) + [issues]) as srv:
+        planner = Planner(client_for(srv))
+        planner.plan("a small bedroom with a desk")
+    assert planner.requests == 5   # nothing left to correct
+    assert "self_check: dropped the issue 'The plan lacks a ceiling light.': the " \
+        "description does not ask for ceiling light" in planner.fixes
+    assert any("'There are no pictures'" in f for f in planner.fixes)
+    # what the description names, or its room type needs, is asked for
+    issues = json.dumps({"issues": ["The plan lacks a wardrobe.", "There is no second bed"]})
+    fixed = json.dumps({"issues": [], "plan": _without_the_chair()})
+    with FakeChatServer(bedroom_script(check=False) + [issues, fixed]) as srv:
+        planner = Planner(client_for(srv))
+        planner.plan("a bedroom with a wardrobe")
+        correct = srv.requests[5]["messages"][-1]["content"]
+    assert "- The plan lacks a wardrobe." in correct and "- There is no second bed" in correct
+
+
+def test_the_plan_shown_for_correction_writes_a_rules_target_before_its_params():
+    # servers that turn the schema into a grammar fix the order of keys; a model copying the
+    # plan must meet "target" where the schema has it, or it cannot write it at all
+    issues = json.dumps({"issues": ["the chair is not needed"]})
+    fixed = json.dumps({"issues": [], "plan": _without_the_chair()})
+    with FakeChatServer(bedroom_script(check=False) + [issues, fixed]) as srv:
+        Planner(client_for(srv)).plan(PROMPT)
+        correct = srv.requests[5]
+    text = correct["messages"][-1]["content"]
+    shown = json.loads(text.split("The plan:\n", 1)[1].split("\n", 1)[0])
+    schema = correct["response_format"]["json_schema"]["schema"]
+    order = list(schema["$defs"]["RuleDraft"]["properties"])
+    for rule in shown["rules"]:
+        assert list(rule) == [k for k in order if k in rule]
+    assert any("target" in r for r in shown["rules"])
+
+
+@script(bedroom_script(decor=False, check=False)
+        + ['{"objects": [], "rules": [{"rule": "on_top", "object": "lamp", "target": "sofa"}]}']
+        * 3 + [json.dumps({"issues": []})])
+def test_decor_that_cannot_be_used_leaves_the_plan_without_it(server, caplog):
+    planner = Planner(client_for(server))
+    with caplog.at_level(logging.WARNING, logger="forcelayout.llm"):
+        plan = planner.plan(PROMPT)
+    assert plan.ids == ["bed", "nightstand_1", "desk", "desk_chair"]
+    assert "step 'decor': its items could not be used" in caplog.text
+    assert planner.unresolved and planner.unresolved[0].startswith("decor: items dropped")
+    assert len(server.requests) == 7 and server.remaining == 0
 
 
 def test_no_problems_listed_as_a_problem_asks_for_nothing_more():

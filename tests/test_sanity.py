@@ -163,6 +163,22 @@ def test_autofix_drops_surfaces_that_cannot_hold():
     Plan.from_dict(fixed)
 
 
+def test_autofix_keeps_on_a_top_only_what_it_can_hold_and_the_plan_then_generates():
+    data = json.loads(plan([obj("tub", "bathtub", (1.2, 0.5, 0.6)),
+                            obj("plant", "plant", (0.3, 0.3, 0.3)),
+                            obj("lamp", "lamp", (0.2, 0.2, 0.2)),
+                            obj("picture", "picture", (0.5, 0.5, 0.5)),
+                            obj("light", "ceiling_light", (0.3, 0.3, 0.3))]).to_json())
+    data["rules"] = [{"rule": "on_top", "object": o, "target": "tub"}
+                     for o in ("plant", "lamp", "picture", "light")]
+    fixed, notes = autofix(data)
+    assert [r["object"] for r in fixed["rules"]] == ["plant", "lamp", "picture"]
+    assert notes == ["rules (light): removed on_top 'tub' (the top of 'tub' (1.2 x 0.5 m) has no "
+                     "room left for 'light' (0.3 x 0.3 m) beside 3 other object(s)); it stays "
+                     "on the floor"]
+    assert len(fl.generate(Plan.from_dict(fixed), 3, max_attempts=12, seed=0)) == 3
+
+
 def test_autofix_resolves_opposite_rules_and_too_many_targets():
     data = json.loads(plan([obj("sofa", "sofa", (2.0, 0.9, 0.8)),
                             obj("table", "coffee_table", (1.0, 0.5, 0.45)),

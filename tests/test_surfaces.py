@@ -231,3 +231,22 @@ def test_pinned_wall_that_does_not_exist_is_a_plan_error():
     plan["rules"][5]["params"] = {"wall": 7}
     with pytest.raises(PlanError, match=r"rules\[5\] \(on_wall_mid\)\.params\.wall.*walls 0\.\.3"):
         check_surfaces(fl.Plan.from_dict(plan))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.floats(0.05, 0.6), st.floats(0.05, 0.6)), min_size=1, max_size=6),
+       st.floats(0.3, 1.5), st.floats(0.3, 0.8))
+def test_what_a_top_holds_by_the_row_test_lands_on_it(sizes, w, d):
+    from forcelayout.surfaces.tops import holds
+
+    if not holds(sizes, w, d):
+        return
+    plan = fl.Plan.from_dict({
+        "name": "top", "room": {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]]},
+        "objects": [{"id": "table", "category": "table", "size": [w, d, 0.7]}]
+        + [{"id": f"item_{k}", "category": "box", "size": [a, b, 0.1]}
+           for k, (a, b) in enumerate(sizes)],
+        "rules": [{"rule": "on_top", "object": f"item_{k}", "target": "table"}
+                  for k in range(len(sizes))]})
+    layouts = fl.generate(plan, 1, max_attempts=3, seed=1)
+    assert len(layouts) == 1, layouts.failures

@@ -76,6 +76,7 @@ from forcelayout.sanity import (
     convex_corners,
     room_kind,
 )
+from forcelayout.surfaces.tops import holds
 
 __all__ = ["autofix", "rule_aliases", "FILL_LIMIT", "FILL_TARGET"]
 
@@ -229,6 +230,7 @@ def _fix_surfaces(rules: list[Any], objects: list[dict[str, Any]], notes: list[s
     by_id = {o.get("id"): o for o in objects}
     placed: dict[str, str] = {}
     parent: dict[str, str] = {}
+    held: dict[str, list[tuple[float, float]]] = {}  # the footprints on each top so far
     out = []
     for r in rules:
         rule = (registry.get_rule(r["rule"]) if isinstance(r, dict)
@@ -254,6 +256,11 @@ def _fix_surfaces(rules: list[Any], objects: list[dict[str, Any]], notes: list[s
                     min(c) > min(p) + 1e-9 or max(c) > max(p) + 1e-9):
                 why = (f"{child!r} ({c[0]:g} x {c[1]:g} m) does not fit on top of {target!r} "
                        f"({p[0]:g} x {p[1]:g} m)")
+            elif c is not None and p is not None and not holds(
+                    [*held.get(target, []), c], p[0], p[1]):
+                why = (f"the top of {target!r} ({p[0]:g} x {p[1]:g} m) has no room left for "
+                       f"{child!r} ({c[0]:g} x {c[1]:g} m) beside "
+                       f"{len(held[target])} other object(s)")
         if why is not None:
             notes.append(f"rules ({child}): removed {r['rule']} {target!r} ({why}); it stays "
                          "on the floor")
@@ -261,6 +268,9 @@ def _fix_surfaces(rules: list[Any], objects: list[dict[str, Any]], notes: list[s
         placed[child] = f"{target!r}" if isinstance(target, str) else f"the {rule.surface}"
         if rule.surface == "top" and isinstance(target, str):
             parent[child] = target
+            c = _size(by_id.get(child))
+            if c is not None:
+                held.setdefault(target, []).append(c)
         out.append(r)
     return out
 

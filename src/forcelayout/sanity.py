@@ -40,8 +40,9 @@ from forcelayout.errors import UnknownRuleError
 from forcelayout.plan import Plan
 from forcelayout.rules import Rule
 
-__all__ = ["Finding", "plan_findings", "CATEGORY_SIZES", "ROOM_AREAS", "OPENING_WORDS",
-           "category_key", "convex_corners", "room_kind", "Severity", "MAX_TARGETS"]
+__all__ = ["Finding", "plan_findings", "CATEGORY_SIZES", "ROOM_AREAS", "ROOM_FURNITURE",
+           "OPENING_WORDS", "category_key", "convex_corners", "room_kind", "Severity",
+           "MAX_TARGETS"]
 
 Severity = Literal["infeasible", "implausible"]
 
@@ -101,6 +102,18 @@ ROOM_AREAS: dict[str, tuple[tuple[str, ...], tuple[float, float]]] = {
     "office": (("office", "study", "workroom"), (4.0, 30.0)),
     "living room": (("living", "lounge", "family", "sitting"), (9.0, 60.0)),
     "studio": (("studio", "apartment", "loft"), (14.0, 70.0)),
+}
+#: The furniture each room type of :data:`ROOM_AREAS` cannot do without (a bedroom asks for a
+#: bed without naming it).
+ROOM_FURNITURE: dict[str, tuple[str, ...]] = {
+    "bathroom": ("toilet", "sink"),
+    "kids room": ("bed",),
+    "bedroom": ("bed",),
+    "kitchen": ("counter", "stove", "fridge", "sink"),
+    "dining room": ("dining_table", "table", "chair"),
+    "office": ("desk", "chair"),
+    "living room": ("sofa",),
+    "studio": ("bed", "sofa"),
 }
 _SIZE_SLACK = 1.5      # a size is "far" from its range beyond this factor
 AREA_SLACK = 1.3      # a floor area is "far" from its room type's range beyond this

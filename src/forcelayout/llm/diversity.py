@@ -21,7 +21,7 @@ from forcelayout.llm.prompts import (
     vocabulary,
     vocabulary_text,
 )
-from forcelayout.llm.steps import PromptList, ReplyError, parse_reply, schema_for
+from forcelayout.llm.steps import PromptList, ReplyError, parse_reply, schema_for, shape_of
 from forcelayout.plan import Plan
 
 __all__ = ["expand_prompts", "plan_variants", "MAX_VARIANTS"]
@@ -67,7 +67,8 @@ def expand_prompts(
               "vocabulary": vocabulary_text(vocabulary())}
     base = [{"role": "system", "content": render(templates, "system", **values)},
             {"role": "user", "content": render(templates, "expand", **values,
-                                               schema=json.dumps(schema))}]
+                                               schema=json.dumps(schema),
+                                               shape=shape_of(schema))}]
     messages = base
     attempts: list[Attempt] = []
     for number in range(1, int(max_attempts) + 1):

@@ -62,11 +62,19 @@ from forcelayout.llm.steps import (
     close_cut_reply,
     parse_reply,
     schema_for,
+    shape_of,
 )
 from forcelayout.plan import Plan
 from forcelayout.relax import relax
 from forcelayout.rules import RuleInfo, is_registered
-from forcelayout.sanity import Finding, article, category_key, plan_findings
+from forcelayout.sanity import (
+    ROOM_FURNITURE,
+    Finding,
+    article,
+    category_key,
+    plan_findings,
+    room_kind,
+)
 
 __all__ = ["Planner", "PlanningError", "Attempt", "plan_from_prompt", "make_client", "STEPS"]
 
@@ -186,9 +194,13 @@ def _object_dict(o: Any, *, decor: bool) -> dict[str, Any]:
 
 
 def _rule_dict(r: RuleDraft) -> dict[str, Any]:
-    out: dict[str, Any] = {"rule": r.rule, "object": r.object, "params": dict(r.params)}
+    # the keys in the order of the step schemas: a server that enforces a schema's order
+    # (llama.cpp's grammars do) would not let a model copying a plan write a target after
+    # the params
+    out: dict[str, Any] = {"rule": r.rule, "object": r.object}
     if r.target:
         out["target"] = r.target
+    out["params"] = dict(r.params)
     return out
 
 
@@ -332,19 +344,17 @@ class Planner:
         draft = self._run("scene_graph", SceneGraphStep, values,
                           [i.name for i in unary] or names,
                           lambda r: self._apply_graph(r, draft, kinds))
+        # decor and the self-check refine a plan that is already valid: neither may make the
+        # plan fail; what they could not do is said, and the plan stands as it was
         if self.decor:
-            draft = self._run("decor", DecorStep, values, names,
-                              lambda r: self._apply_decor(r, draft, kinds))
+            draft = self._refine("decor", "its items could not be used",
+                                 "decor: items dropped", draft,
+                                 lambda d: self._run("decor", DecorStep, values, names,
+                                                     lambda r: self._apply_decor(r, d, kinds)))
         if self.self_check:
-            # a refinement of a plan that is already valid: it may not make the plan fail
-            try:
-                draft = self._check(draft, values, names, kinds)
-            except PlanningError as e:
-                reason = e.attempts[-1].reason if e.attempts else str(e)
-                log.warning("step 'self_check': its corrections could not be used; the plan "
-                            "stands as before the check (last problem: %s)", reason)
-                self.unresolved.append(f"self_check: corrections dropped ({reason})")
-                self._current = draft
+            draft = self._refine("self_check", "its corrections could not be used",
+                                 "self_check: corrections dropped", draft,
+                                 lambda d: self._check(d, values, names, kinds))
         plan = Plan.from_dict(draft)
         if self.relax:
             t = time.monotonic()
@@ -358,6 +368,22 @@ class Planner:
                  len(self.failed_attempts), len(self.fixes))
         return plan
 
+    def _refine(self, step: str, what: str, label: str, draft: Draft,
+                run: Callable[[Draft], Draft]) -> Draft:
+        """``run(draft)``, or ``draft`` itself when the step gives nothing usable."""
+        try:
+            return run(draft)
+        except PlanningError as e:
+            cause = e.__cause__
+            if isinstance(cause, LLMRequestError) and not cause.retryable:
+                raise  # the server refuses every request: later steps would fail the same way
+            reason = e.attempts[-1].reason if e.attempts else str(e)
+            log.warning("step %r: %s; the plan stands as before the step (last problem: %s)",
+                        step, what, reason)
+            self.unresolved.append(f"{label} ({reason})")
+            self._current = draft
+            return draft
+
     def _check(self, draft: Draft, values: dict[str, Any], names: list[str],
                kinds: dict[str, str]) -> Draft:
         """Step 5: ask for the plan's problems; only if there are some, for the corrections."""
@@ -370,10 +396,14 @@ class Planner:
                 if _NO_PROBLEM.match(issue):  # "no problems found" is not a problem
                     continue
                 has = _claimed_missing(issue, draft)
-                if has is None:
-                    found.append(issue)
-                else:
+                extra = _unasked(issue, values["prompt"]) if has is None else None
+                if has is not None:
                     self._note("self_check", f"dropped the issue {issue!r}: the plan has {has}")
+                elif extra is not None:
+                    self._note("self_check", f"dropped the issue {issue!r}: the description "
+                                             f"does not ask for {extra}")
+                else:
+                    found.append(issue)
             if r.plan is not None and found:  # the corrected plan came at once
                 return self._apply_check(r, draft, kinds)
             if r.plan is not None:
@@ -414,7 +444,7 @@ class Planner:
                                        "scene_graph": "graph", "decor": "decor",
                                        "self_check": "check", "correction": "correct"}[step],
                       **{"report": "", "issues": "", **values},
-                      schema=json.dumps(schema, separators=(",", ":")),
+                      schema=json.dumps(schema, separators=(",", ":")), shape=shape_of(schema),
                       plan=json.dumps(current, separators=(",", ":")) if current else "{}")
         base = [{"role": "system", "content": render(self.templates, "system", **values)},
                 {"role": "user", "content": text}]
@@ -769,6 +799,48 @@ def _claimed_missing(issue: str, draft: Draft) -> str | None:
         if key in (category_key(str(o.get("category", ""))), category_key(str(o.get("id", "")))):
             return f"{article(key)} {key.replace('_', ' ')}"
     return None
+
+
+def _unasked(issue: str, prompt: str) -> str | None:
+    """If ``issue`` says the plan lacks something the description does not ask for, that thing
+    (``'a ceiling light'``); else None.
+
+    The check looks for furniture the description asks for: named in it (``"a kitchen with a
+    table for four"`` asks for a table) or what its room type cannot do without
+    (:data:`forcelayout.sanity.ROOM_FURNITURE`: a bedroom asks for a bed). Extras a model wishes
+    for (a picture, a second lamp) are not problems of the plan.
+    """
+    m = _ABSENT.search(issue)
+    if m is None:
+        return None
+    phrase = _PHRASE_END.split(m.group(1))[0]
+    words = [w for w in _words(phrase) if w not in _FILLER and not _MORE.fullmatch(w)]
+    if not words:
+        return None
+    asked = {_singular(w) for w in _words(prompt)}
+    kind = room_kind("", prompt)
+    if kind is not None:
+        asked.update(ROOM_FURNITURE[kind])
+    key = category_key(phrase)
+    if key in asked or any(_singular(w) in asked for w in words):
+        return None
+    return " ".join(words)
+
+
+_PHRASE_END = re.compile(r"[.;,:(]| for | to | in | near | by | and | of | with | on | that ")
+_FILLER = frozenset({"a", "an", "the", "any", "some", "its", "their", "enough"})
+
+
+def _words(text: str) -> list[str]:
+    return [w for w in re.split(r"[^a-z0-9]+", text.lower()) if w]
+
+
+def _singular(word: str) -> str:
+    for end, repl in (("ies", "y"), ("ves", "f"), ("ches", "ch"), ("shes", "sh"), ("ses", "s"),
+                      ("s", "")):
+        if word.endswith(end) and len(word) > len(end) + 2:
+            return word[: -len(end)] + repl
+    return word
 
 
 def _dedupe(items: list[str]) -> list[str]:

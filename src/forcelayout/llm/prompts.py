@@ -11,7 +11,10 @@ JSON braces need no escaping. Users override any of them::
 Placeholders available to every template: ``$prompt`` (the user's scene
 description), ``$conventions``, ``$vocabulary`` (generated from the rule
 registry, so plugin rules are offered automatically), ``$plan`` (the plan so
-far, JSON), ``$schema`` (the step's JSON Schema) and, in ``expand``,
+far, JSON), ``$shape`` (an outline of the reply's keys in order, with their types and
+meanings; :func:`forcelayout.llm.steps.shape_of`), ``$schema`` (the step's whole JSON
+Schema, which the server is given to enforce; a fifth of a small model's prompt if shown)
+and, in ``expand``,
 ``$room_type`` and ``$k``. ``repair`` gets ``$problems``; ``check`` gets
 ``$report``, the library's own findings about the plan
 (:func:`forcelayout.diagnose.feasibility`); ``correct`` gets ``$issues``, the
@@ -45,7 +48,7 @@ _SYSTEM = """\
 You plan indoor scenes for a physics-based layout generator. You never give coordinates \
 of furniture: you describe the room, the objects and the rules that place them; the \
 generator finds many layouts that meet the rules. Answer every request with exactly one \
-JSON object that follows the JSON Schema given, with no other text. Write the JSON \
+JSON object with the keys asked for, in that order, with no other text. Write the JSON \
 compactly, without indentation, and give each rule once: a few rules that matter beat many \
 that restate each other.
 
@@ -63,8 +66,8 @@ Choose a plausible room for the description: its floor polygon (usually a rectan
 L-shape when the description suggests it), ceiling height, doors and windows; and 2 to 4 \
 functional areas (e.g. sleeping, work, storage, seating).
 
-Answer with JSON following this schema:
-$schema"""
+Answer with one JSON object with these keys, in this order:
+$shape"""
 
 _OBJECTS = """\
 Scene description: "$prompt"
@@ -78,8 +81,8 @@ for each object, using only the rules of the system message.
 The plan so far:
 $plan
 
-Answer with JSON following this schema:
-$schema"""
+Answer with one JSON object with these keys, in this order:
+$shape"""
 
 _GRAPH = """\
 Scene description: "$prompt"
@@ -94,8 +97,8 @@ object that rests on top of another (a lamp on a nightstand) as \
 The plan so far:
 $plan
 
-Answer with JSON following this schema:
-$schema"""
+Answer with one JSON object with these keys, in this order:
+$shape"""
 
 _DECOR = """\
 Scene description: "$prompt"
@@ -109,8 +112,8 @@ and only the rules of the system message.
 The plan so far:
 $plan
 
-Answer with JSON following this schema:
-$schema"""
+Answer with one JSON object with these keys, in this order:
+$shape"""
 
 _CHECK = """\
 Scene description: "$prompt"
@@ -126,8 +129,8 @@ short sentence; an empty list if there are none. Do not repeat the plan.
 The plan:
 $plan
 
-Answer with JSON following this schema:
-$schema"""
+Answer with one JSON object with these keys, in this order:
+$shape"""
 
 _CORRECT = """\
 Scene description: "$prompt"
@@ -142,14 +145,14 @@ the problems need.
 The plan:
 $plan
 
-Answer with JSON following this schema:
-$schema"""
+Answer with one JSON object with these keys, in this order:
+$shape"""
 
 _REPAIR = """\
 Your reply could not be used:
 $problems
 
-Answer again with the complete corrected JSON object for this step, following the schema."""
+Answer again with the complete corrected JSON object for this step, with the keys asked for."""
 
 _EXPAND = """\
 Write $k distinct, specific descriptions of a "$room_type" as one might ask an interior \
@@ -157,8 +160,8 @@ designer for it (e.g. "a student's bedroom with a desk by the window", "a cosy r
 corner living room"). Vary who lives there, the style, the size and the furniture. Each \
 description is one sentence.
 
-Answer with JSON following this schema:
-$schema"""
+Answer with one JSON object with these keys, in this order:
+$shape"""
 
 
 @dataclass(frozen=True)

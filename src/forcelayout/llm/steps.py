@@ -41,6 +41,7 @@ __all__ = [
     "parse_reply",
     "close_cut_reply",
     "schema_for",
+    "shape_of",
     "MAX_REPLY_CHARS",
     "MAX_OBJECTS",
 ]
@@ -390,3 +391,78 @@ def schema_for(model: type[_Draft], rule_names: list[str] | None = None) -> dict
             if prop is not None:
                 prop["enum"] = list(rule_names)
     return schema
+
+
+def shape_of(schema: dict[str, Any]) -> str:
+    """A short outline of a JSON Schema's object: its keys, their types and meanings.
+
+    What a prompt shows instead of the schema itself: a third of its length, which a small
+    model on a CPU reads in a third of the time, while the server is still given the whole
+    schema to enforce.
+
+    Parameters
+    ----------
+    schema : dict
+        A step's JSON Schema (:func:`schema_for`).
+
+    Returns
+    -------
+    str
+        One line per key, nested lists and objects indented.
+
+    Examples
+    --------
+    >>> print(shape_of(schema_for(SupportEdge)))
+    - object: string
+    - parent: string
+    """
+    defs = schema.get("$defs", {})
+    lines: list[str] = []
+    _outline(schema, defs, lines, "")
+    return "\n".join(lines)
+
+
+def _resolve(node: dict[str, Any], defs: dict[str, Any]) -> dict[str, Any]:
+    ref = node.get("$ref")
+    return defs.get(ref.rsplit("/", 1)[-1], {}) if isinstance(ref, str) else node
+
+
+def _type(node: dict[str, Any], defs: dict[str, Any]) -> tuple[str, dict[str, Any] | None]:
+    """The type's words, and the object (or object of a list) whose keys follow, if any."""
+    node = _resolve(node, defs)
+    if "anyOf" in node:
+        kinds = [k for k in node["anyOf"] if k.get("type") != "null"]
+        words, inner = _type(kinds[0], defs) if kinds else ("null", None)
+        return (f"{words} or null" if len(kinds) < len(node["anyOf"]) else words), inner
+    if "enum" in node:
+        if len(node["enum"]) > 6:
+            return "a rule name of the system message", None
+        return "one of " + ", ".join(json.dumps(v) for v in node["enum"]), None
+    kind = node.get("type")
+    if kind == "array":
+        items = _resolve(node.get("items", {}), defs)
+        lo, hi = node.get("minItems"), node.get("maxItems")
+        if lo is not None and lo == hi and items.get("type") in ("number", "integer"):
+            return "[" + ", ".join([items["type"]] * lo) + "]", None
+        count = (f"{lo}-{hi} " if lo and hi else f"up to {hi} " if hi else
+                 f"at least {lo} " if lo else "")
+        if "properties" in items:
+            return f"list of {count}objects", items
+        words, _ = _type(items, defs)
+        return f"list of {count}{words}", None
+    if "properties" in node:
+        return "object", node
+    return str(kind or "any"), None
+
+
+def _outline(node: dict[str, Any], defs: dict[str, Any], lines: list[str], pad: str) -> None:
+    node = _resolve(node, defs)
+    required = set(node.get("required", []))
+    for key, prop in node.get("properties", {}).items():
+        words, inner = _type(prop, defs)
+        what = _resolve(prop, defs).get("description") or prop.get("description")
+        name = key if key in required else f"{key} (optional)"
+        lines.append(f"{pad}- {name}: {words}" + (f" — {what.rstrip('.')}" if what else "")
+                     + (", with keys:" if inner is not None else ""))
+        if inner is not None:
+            _outline(inner, defs, lines, pad + "  ")

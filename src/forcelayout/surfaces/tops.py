@@ -24,7 +24,7 @@ from forcelayout.rules.base import State
 from forcelayout.solver import simulate
 from forcelayout.surfaces.plane import SurfacePlacement, plane_solver, rect
 
-__all__ = ["place_on_tops"]
+__all__ = ["place_on_tops", "holds"]
 
 #: Start hints of room rules that keep their meaning on a top (its edges are its walls).
 _EDGE_PLACES = frozenset({"wall", "corner"})
@@ -101,6 +101,8 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
         fpos, fyaw = pos, yaw
     if not _fits_rect(fpos, fyaw, size, pw, pd):  # a crowded top: set them out in rows
         packed = _rows(size, pw, pd, rng.permutation(len(kids)))
+        if packed is None:  # deepest first packs any set that rows can hold
+            packed = _rows(size, pw, pd, _deepest_first(size, pw))
         if packed is not None:
             fpos, fyaw = packed
     if not _fits_rect(fpos, fyaw, size, pw, pd):
@@ -113,6 +115,39 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
     for k, (x, y), t in zip(kids, fpos.tolist(), fyaw.tolist(), strict=True):
         a = (t + P.yaw + np.pi) % (2 * np.pi) - np.pi
         poses[k] = Pose(P.x + c * x - s * y, P.y + s * x + c * y, float(a), float(z), parent)
+
+
+def holds(sizes: np.ndarray | list[list[float]], width: float, depth: float) -> bool:
+    """Whether a ``width x depth`` top holds footprints of ``sizes`` side by side.
+
+    The test the top simulation's last resort passes: the footprints set out in rows, the
+    deepest first, each turned to lie shallow where that fits.
+
+    Parameters
+    ----------
+    sizes : array_like, shape (n, 2)
+        The children's footprints, ``[width, depth]`` in metres.
+    width, depth : float
+        The top, metres.
+
+    Examples
+    --------
+    >>> holds([[0.3, 0.3], [0.2, 0.2], [0.5, 0.5]], 1.2, 0.5)
+    True
+    >>> holds([[0.3, 0.3], [0.2, 0.2], [0.5, 0.5], [0.3, 0.3]], 1.2, 0.5)
+    False
+    """
+    size = np.asarray(sizes, dtype=float).reshape(-1, 2)
+    if len(size) == 0:
+        return True
+    return _rows(size, float(width), float(depth), _deepest_first(size, float(width))) is not None
+
+
+def _deepest_first(size: np.ndarray, w: float) -> np.ndarray:
+    # the depth each footprint takes once turned as _rows turns it
+    a, b = size[:, 0], size[:, 1]
+    turned = ((b > a) & (b <= w + 1e-9)) | (a > w + 1e-9)
+    return np.argsort(-np.where(turned, a, b), kind="stable")
 
 
 def _rows(size: np.ndarray, w: float, d: float, order: np.ndarray

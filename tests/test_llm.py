@@ -442,6 +442,21 @@ def test_decor_that_cannot_be_used_leaves_the_plan_without_it(server, caplog):
     assert len(server.requests) == 7 and server.remaining == 0
 
 
+def test_a_size_the_model_does_not_fix_is_brought_into_its_categorys_range():
+    narrow = json.loads(json.dumps(OBJECTS))
+    narrow["objects"][0]["size"] = [0.5, 2.0, 0.5]   # a bed 0.5 m wide
+    script = bedroom_script()
+    script[1:2] = [json.dumps(narrow)] * 3
+    with FakeChatServer(script) as srv:
+        planner = Planner(client_for(srv))
+        plan = planner.plan(PROMPT)
+        assert srv.remaining == 0
+    assert plan.object("bed").size == (0.8, 2.0, 0.5)
+    assert planner.unresolved == []
+    assert "objects: objects[0].size: 'bed' was 0.5 x 2 x 0.5 m after every attempt; set to " \
+        "0.8 x 2 x 0.5 m, the nearest usual size of its category" in planner.fixes
+
+
 def test_no_problems_listed_as_a_problem_asks_for_nothing_more():
     issues = json.dumps({"issues": ["no problems found", "None."]})
     with FakeChatServer(bedroom_script(check=False) + [issues]) as srv:

@@ -31,7 +31,7 @@ from __future__ import annotations
 import math
 import re
 from collections import defaultdict
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
@@ -41,8 +41,8 @@ from forcelayout.plan import Plan
 from forcelayout.rules import Rule
 
 __all__ = ["Finding", "plan_findings", "CATEGORY_SIZES", "ROOM_AREAS", "ROOM_FURNITURE",
-           "OPENING_WORDS", "category_key", "convex_corners", "room_kind", "Severity",
-           "MAX_TARGETS"]
+           "OPENING_WORDS", "category_key", "convex_corners", "room_kind", "usual_size",
+           "Severity", "MAX_TARGETS"]
 
 Severity = Literal["infeasible", "implausible"]
 
@@ -197,6 +197,33 @@ def room_kind(name: str, description: str = "") -> str | None:
         if kind is not None:
             return kind
     return None
+
+
+def usual_size(category: str, size: Sequence[float]) -> list[float] | None:
+    """``size`` brought into the usual ranges of its category, or None for a category
+    :data:`CATEGORY_SIZES` does not know.
+
+    The shorter and the longer side of the footprint and the height are each clamped into
+    the category's range; the side that was the width stays the width.
+
+    Examples
+    --------
+    >>> usual_size("sofa", [2.0, 1.8, 0.8])
+    [2.0, 1.2, 0.8]
+    >>> usual_size("spaceship", [9, 9, 9]) is None
+    True
+    """
+    key = category_key(category)
+    if key is None:
+        return None
+    (s_lo, s_hi), (l_lo, l_hi), (h_lo, h_hi) = CATEGORY_SIZES[key]
+    w, d, h = (float(x) for x in size[:3])
+    short, long_ = sorted((w, d))
+    short, long_ = min(max(short, s_lo), s_hi), min(max(long_, l_lo), l_hi)
+    if short > long_:
+        short, long_ = long_, short
+    w, d = (short, long_) if w <= d else (long_, short)
+    return [round(w, 3), round(d, 3), round(min(max(h, h_lo), h_hi), 3)]
 
 
 def convex_corners(polygon: Iterable[tuple[float, float]] | Iterable[list[float]]) -> int:

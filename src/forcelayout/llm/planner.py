@@ -74,6 +74,7 @@ from forcelayout.sanity import (
     category_key,
     plan_findings,
     room_kind,
+    usual_size,
 )
 
 __all__ = ["Planner", "PlanningError", "Attempt", "plan_from_prompt", "make_client", "STEPS"]
@@ -511,13 +512,42 @@ class Planner:
                             {"role": "user", "content": repair}]
         if best is not None:
             number, draft, problems, fixes = best
-            log.warning("step %r: kept attempt %d with problems the model did not fix: %s",
-                        step, number, "; ".join(problems))
-            self.unresolved.extend(problems)
             self.fixes.extend(fixes)
+            draft, problems = self._usual_sizes(step, draft, problems)
+            if problems:
+                log.warning("step %r: kept attempt %d with problems the model did not fix: %s",
+                            step, number, "; ".join(problems))
+            self.unresolved.extend(problems)
             self._current = draft
             return draft
         raise PlanningError(step, self.failed_attempts, note=note)
+
+    def _usual_sizes(self, step: str, draft: Draft, problems: list[str]
+                     ) -> tuple[Draft, list[str]]:
+        """Sizes far from their category's the model did not fix, brought into its usual range
+        (:func:`forcelayout.sanity.usual_size`); the problems left."""
+        try:
+            plan = Plan.from_dict(draft)
+        except PlanError:
+            return draft, problems
+        objects = list(draft.get("objects") or [])
+        left = list(problems)
+        for f in plan_findings(plan):
+            m = re.fullmatch(r"objects\[(\d+)\]\.size", f.path)
+            if m is None or str(f) not in left or int(m.group(1)) >= len(objects):
+                continue
+            k = int(m.group(1))
+            o = objects[k]
+            size = usual_size(str(o.get("category", "")), o.get("size") or [])
+            if size is None:
+                continue
+            self._note(step, f"objects[{k}].size: {o.get('id')!r} was "
+                             f"{' x '.join(f'{x:g}' for x in o['size'])} m after every attempt; "
+                             f"set to {' x '.join(f'{x:g}' for x in size)} m, the nearest usual "
+                             f"size of its category")
+            objects[k] = {**o, "size": size}
+            left.remove(str(f))
+        return ({**draft, "objects": objects} if len(left) < len(problems) else draft), left
 
     def _parse(self, step: str, reply: str, model: type[M]) -> M:
         """Parse a reply; one cut off at the token limit is read up to its last whole item."""

@@ -480,12 +480,14 @@ class Planner:
             repeats = seen.get(key, 0)
             seen[key] = repeats + 1
             fixes_before = len(self.fixes)
+            usable = False
             try:
                 draft = apply(self._parse(step, reply, model))
             except (ReplyError, _Problems) as e:
                 problems = list(e.problems)
                 del self.fixes[fixes_before:]
             else:
+                usable = True
                 problems = self._findings(step, draft) if self.feasibility else []
                 if not problems:
                     log.info("step %r: done after %d attempt%s in %.1f s", step, number,
@@ -498,6 +500,10 @@ class Planner:
             self._fail(step, number, "; ".join(problems))
             if repeats >= 2:
                 note = " (the model sent the same reply three times)"
+                break
+            if repeats and usable:  # a usable reply sent again: the model stands by it
+                log.info("step %r: the model sent the same usable reply again; keeping it",
+                         step)
                 break
             repair = render(self.templates, "repair", **values,
                             problems="\n".join(f"- {p}" for p in problems))

@@ -14,6 +14,9 @@ Steps (paper §III-A), each one request with structured output:
    library's own report); only if it lists some, ``correction`` asks for the
    corrected plan.
 
+Steps 4 and 5 refine a plan that is already valid: when they give nothing
+usable, the plan stands as it was (said in ``Planner.unresolved``).
+
 After each step the plan so far is validated by :class:`forcelayout.Plan`;
 a reply that does not parse or fails validation is sent back with every
 problem (and its JSON path) and the step is retried, up to
@@ -318,8 +321,9 @@ class Planner:
         Raises
         ------
         PlanningError
-            If a step got no usable reply within ``max_attempts``; it carries
-            every failed attempt with its reason.
+            If the room, objects or scene graph step got no usable reply within
+            ``max_attempts`` (or the server refuses requests); it carries every
+            failed attempt with its reason.
         """
         prompt = " ".join(str(prompt).split())
         if not prompt:

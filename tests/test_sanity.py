@@ -163,6 +163,21 @@ def test_autofix_drops_surfaces_that_cannot_hold():
     Plan.from_dict(fixed)
 
 
+def test_autofix_maps_or_drops_areas_the_plan_does_not_declare():
+    data = json.loads(plan([obj("bed", "bed", (1.0, 2.0, 0.5)),
+                            obj("plant", "plant", (0.3, 0.3, 0.6)),
+                            obj("desk", "desk", (1.2, 0.6, 0.75))]).to_json())
+    data["areas"] = [{"name": "sleeping", "rules": []}, {"name": "work", "rules": []}]
+    for o, area in zip(data["objects"], ("Sleeping area", "decor", "work"), strict=True):
+        o["area"] = area
+    fixed, notes = autofix(data)
+    assert [o.get("area") for o in fixed["objects"]] == ["sleeping", None, "work"]
+    assert notes == ["objects[0].area: 'Sleeping area' read as 'sleeping'",
+                     "objects[1].area: removed 'decor' (no such area is declared); 'plant' "
+                     "belongs to no area"]
+    Plan.from_dict(fixed)
+
+
 def test_autofix_keeps_on_a_top_only_what_it_can_hold_and_the_plan_then_generates():
     data = json.loads(plan([obj("tub", "bathtub", (1.2, 0.5, 0.6)),
                             obj("plant", "plant", (0.3, 0.3, 0.3)),

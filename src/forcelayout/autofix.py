@@ -17,7 +17,8 @@ itself and asks the model again only about what needs a choice:
 * near-miss rule names (``"next to"``, ``"nextTo"``, ``"against_wall"``)
   and object ids (``"bed"`` for the only bed, ``"desk chair"``) are mapped;
   categories are written in lower case with underscores;
-* duplicated rules are dropped;
+* duplicated rules are dropped; an object's area that is not declared is
+  mapped onto the declared one it spells differently, else dropped;
 * doors and windows listed as objects are removed with their rules;
 * more ``in_corner`` objects (and areas) than the floor has convex
   corners: the extra ones become ``at_wall``;
@@ -275,6 +276,28 @@ def _fix_surfaces(rules: list[Any], objects: list[dict[str, Any]], notes: list[s
     return out
 
 
+def _fix_object_areas(out: dict[str, Any], objects: list[dict[str, Any]], notes: list[str]
+                      ) -> None:
+    """An object's area the plan does not declare: the declared one it spells differently
+    (``"Sleeping area"`` for ``sleeping``), else none (the object keeps its own rules)."""
+    names = [str(a.get("name")) for a in out.get("areas") or []
+             if isinstance(a, dict) and isinstance(a.get("name"), str)]
+    by_key = {_snake(n): n for n in names}
+    for k, o in enumerate(objects):
+        area = o.get("area")
+        if not isinstance(area, str) or not area or area in names:
+            continue
+        key = _snake(area)
+        match = by_key.get(key) or by_key.get(re.sub(r"_?area$", "", key))
+        if match is not None:
+            notes.append(f"objects[{k}].area: {area!r} read as {match!r}")
+            o["area"] = match
+        else:
+            notes.append(f"objects[{k}].area: removed {area!r} (no such area is declared); "
+                         f"{o.get('id')!r} belongs to no area")
+            o["area"] = None
+
+
 def _rule_of(r: Any) -> Rule | None:
     """The registered rule a rule dict names, or None."""
     if not isinstance(r, dict) or not isinstance(r.get("rule"), str) \
@@ -437,6 +460,7 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
                 notes.append(f"objects[{k}].category: {cat!r} -> {snake!r}")
                 o["category"] = snake
         kept.append(o)
+    _fix_object_areas(out, kept, notes)
     if removed and isinstance(out.get("objects"), list):
         out["objects"] = [o for o in out["objects"]
                           if not (isinstance(o, dict) and str(o.get("id")) in removed)]

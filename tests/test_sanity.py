@@ -163,6 +163,22 @@ def test_autofix_drops_surfaces_that_cannot_hold():
     Plan.from_dict(fixed)
 
 
+def test_the_room_listed_as_an_object_is_found_and_removed_with_its_rules():
+    data = json.loads(plan([obj("bathroom", "room", (2.0, 1.5, 2.5)),
+                            obj("tub", "bathtub", (1.6, 0.7, 0.6)),
+                            obj("wall_1", "wall", (2.0, 0.1, 2.5))]).to_json())
+    data["rules"] = [{"rule": "at_wall", "object": "tub"},
+                     {"rule": "near", "object": "tub", "target": "bathroom"}]
+    found = [str(f) for f in plan_findings(Plan.from_dict(data))]
+    assert "objects[0].category: 'bathroom' (room) is the room itself listed as an object; " \
+        "remove it: the room is described by 'room'" in found
+    fixed, notes = autofix(data)
+    assert [o["id"] for o in fixed["objects"]] == ["tub"]
+    assert [r["rule"] for r in fixed["rules"]] == ["at_wall"]
+    assert "rules[1] (near): removed with the object it names" in notes
+    Plan.from_dict(fixed)
+
+
 def test_autofix_maps_or_drops_areas_the_plan_does_not_declare():
     data = json.loads(plan([obj("bed", "bed", (1.0, 2.0, 0.5)),
                             obj("plant", "plant", (0.3, 0.3, 0.6)),

@@ -19,7 +19,8 @@ itself and asks the model again only about what needs a choice:
   categories are written in lower case with underscores;
 * duplicated rules are dropped; an object's area that is not declared is
   mapped onto the declared one it spells differently, else dropped;
-* doors and windows listed as objects are removed with their rules;
+* doors and windows listed as objects are removed with their rules, and so
+  is the room itself (or a wall, the floor) listed as an object;
 * more ``in_corner`` objects (and areas) than the floor has convex
   corners: the extra ones become ``at_wall``;
 * an object both ``far_from`` and close to one target loses the
@@ -75,6 +76,7 @@ from forcelayout.sanity import (
     article,
     category_key,
     convex_corners,
+    names_the_room,
     room_kind,
 )
 from forcelayout.surfaces.tops import holds
@@ -278,10 +280,12 @@ def _fix_surfaces(rules: list[Any], objects: list[dict[str, Any]], notes: list[s
 
 def _fix_object_areas(out: dict[str, Any], objects: list[dict[str, Any]], notes: list[str]
                       ) -> None:
-    """An object's area the plan does not declare: the declared one it spells differently
+    """An object's area a plan with areas does not declare: the declared one it spells differently
     (``"Sleeping area"`` for ``sleeping``), else none (the object keeps its own rules)."""
     names = [str(a.get("name")) for a in out.get("areas") or []
              if isinstance(a, dict) and isinstance(a.get("name"), str)]
+    if not names:  # a plan without areas may label its objects freely
+        return
     by_key = {_snake(n): n for n in names}
     for k, o in enumerate(objects):
         area = o.get("area")
@@ -455,6 +459,11 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
                 notes.append(f"objects[{k}]: removed {o.get('id')!r}, a {cat} listed as an "
                              "object (doors and windows belong in room.doors / room.windows)")
                 continue
+            if names_the_room(cat):
+                removed.add(str(o.get("id")))
+                notes.append(f"objects[{k}]: removed {o.get('id')!r} ({cat}), the room itself "
+                             "listed as an object (the room is described by 'room')")
+                continue
             snake = _snake(cat)
             if snake and snake != cat:
                 notes.append(f"objects[{k}].category: {cat!r} -> {snake!r}")
@@ -489,7 +498,7 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
                 notes.append(f"rules[{k}].rule: {name!r} read as {mapped!r}")
                 r["rule"] = name = mapped
         if r.get("object") in removed or r.get("target") in removed:
-            notes.append(f"rules[{k}] ({name}): removed with the opening it names")
+            notes.append(f"rules[{k}] ({name}): removed with the object it names")
             continue
         for field in ("object", "target"):
             new = map_id(r.get(field))

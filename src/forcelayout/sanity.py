@@ -41,8 +41,8 @@ from forcelayout.plan import Plan
 from forcelayout.rules import Rule
 
 __all__ = ["Finding", "plan_findings", "CATEGORY_SIZES", "ROOM_AREAS", "ROOM_FURNITURE",
-           "OPENING_WORDS", "category_key", "convex_corners", "room_kind", "usual_size",
-           "Severity", "MAX_TARGETS"]
+           "OPENING_WORDS", "names_the_room", "category_key", "convex_corners", "room_kind",
+           "usual_size", "Severity", "MAX_TARGETS"]
 
 Severity = Literal["infeasible", "implausible"]
 
@@ -92,6 +92,27 @@ _SYNONYMS = {
 #: Category words that name a door or a window (they belong in ``room.doors`` / ``room.windows``).
 OPENING_WORDS = frozenset({"door", "doors", "doorway", "window", "windows", "skylight",
                            "entrance", "opening"})
+_STRUCTURE_WORDS = frozenset({"room", "rooms", "floor", "wall", "walls", "ceiling"})
+
+
+def names_the_room(category: str) -> bool:
+    """Whether a category names the room itself or a part of it (``"room"``, ``"bathroom"``,
+    ``"wall"``), not furniture: such an "object" belongs in the plan's ``room``.
+
+    Examples
+    --------
+    >>> names_the_room("bathroom"), names_the_room("wall"), names_the_room("wall_shelf")
+    (True, True, False)
+    >>> names_the_room("bath")   # a bathtub
+    False
+    """
+    words = _tokens(category)
+    if not words or category_key(category) is not None:
+        return False
+    return (words[-1] in _STRUCTURE_WORDS or words[-1].endswith("room")
+            or "_".join(words) in {k.replace(" ", "_") for k in ROOM_AREAS})
+
+
 #: Usual floor area (m²) by room type, and the words that name it.
 ROOM_AREAS: dict[str, tuple[tuple[str, ...], tuple[float, float]]] = {
     "bathroom": (("bathroom", "bath", "toilet", "wc", "washroom"), (2.0, 16.0)),
@@ -259,6 +280,12 @@ def _size_findings(plan: Plan) -> Iterable[Finding]:
             yield Finding(f"objects[{k}].category",
                           f"{o.id!r} is a {o.category} listed as an object",
                           "remove it and declare it in room.doors or room.windows",
+                          refs=(f"objects[{k}]",))
+            continue
+        if names_the_room(o.category):
+            yield Finding(f"objects[{k}].category",
+                          f"{o.id!r} ({o.category}) is the room itself listed as an object",
+                          "remove it: the room is described by 'room'",
                           refs=(f"objects[{k}]",))
             continue
         key = category_key(o.category)

@@ -235,3 +235,10 @@ def test_window_clearance_defaults_and_must_not_be_negative():
         Plan.from_dict(bad)
     schema = json.dumps(Plan.json_schema())
     assert "clearance" in schema and "walkable" in schema
+
+
+def test_a_rule_binding_is_labelled_as_reports_name_it():
+    from forcelayout.plan import RuleSpec
+
+    assert RuleSpec(rule="near", object="sofa", target="tv").label == "near(sofa, tv)"
+    assert RuleSpec(rule="at_wall", object="bed").label == "at_wall(bed)"

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from forcelayout.geometry import RoomGeometry, box_corners
-from forcelayout.plan import Plan
+from forcelayout.plan import Plan, _binding_label
 
 if TYPE_CHECKING:
     from forcelayout.rules.base import State
@@ -64,6 +64,11 @@ class RuleResult:
     object: str
     target: str | None
     satisfied: bool | None  # None: not judged (an object of the binding is not placed)
+
+    @property
+    def label(self) -> str:
+        """The binding as reports name it: ``near(sofa, tv)``."""
+        return _binding_label(self.rule, self.object, self.target)
 
 
 @dataclass

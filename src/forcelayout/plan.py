@@ -230,6 +230,16 @@ class RuleSpec(_Model):
         "Strong parent->child dependency in the scene graph; None = the default "
         "(next_to, in_front_of and around between floor objects of one area)."))
 
+    @property
+    def label(self) -> str:
+        """The binding as reports name it: ``near(sofa, tv)``, ``at_wall(bed)``."""
+        return _binding_label(self.rule, self.object, self.target)
+
+
+def _binding_label(rule: str, obj: str, target: str | None) -> str:
+    """A rule binding as reports name it: ``near(sofa, tv)``, ``at_wall(bed)``."""
+    return f"{rule}({obj}{', ' + target if target else ''})"
+
 
 class AreaRule(_Model):
     """A rule for a whole functional area (e.g. the sleeping area at a wall)."""

@@ -42,11 +42,6 @@ TRIAL_ROUNDS = 4
 _PER_ROUND = 3
 
 
-def _binding(rule: Any) -> str:
-    """A rule binding as the rule check names it: ``near(sofa, tv)``."""
-    return f"{rule.rule}({rule.object}{', ' + rule.target if rule.target else ''})"
-
-
 def _droppable(name: str) -> bool:
     """Floor rules may go; surface rules (an object's support) stay."""
     return registry.is_registered(name) and registry.get_rule(name).kind != "surface"
@@ -106,7 +101,7 @@ def relax(plan: Plan, *, samples: int = TRIAL_SAMPLES, wanted: int = TRIAL_LAYOU
             return current, notes
         failed = [r for r in gen.reports if not r.valid]
         missed = _missed(failed)
-        keys = {_binding(r): r for r in current.rules if _droppable(r.rule)}
+        keys = {r.label: r for r in current.rules if _droppable(r.rule)}
         ranked = [(b, k) for b, k in missed.most_common() if b in keys]
         drop = [b for b, k in ranked if 2 * k >= len(failed)][:_PER_ROUND] or \
             [b for b, _ in ranked[:1]]

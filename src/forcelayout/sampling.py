@@ -117,8 +117,7 @@ def _judge(layout: Layout, opts: Options) -> None:
 
         failures.extend(check_layout(layout, **opts.check_kwargs).failures)
     if report.rule_satisfaction < opts.min_rule_satisfaction:
-        unmet = [f"{r.rule}({r.object}{', ' + r.target if r.target else ''})"
-                 for r in layout.rule_report() if r.satisfied is False]  # cached report
+        unmet = [r.label for r in layout.rule_report() if r.satisfied is False]  # cached
         from forcelayout.validate.checks import _percents
 
         shown, need = _percents(report.rule_satisfaction, opts.min_rule_satisfaction)

@@ -90,7 +90,7 @@ FILL_LIMIT = 0.5
 FILL_TARGET = 0.45
 
 
-def __rule_of() -> list[Rule]:
+def _declared() -> list[Rule]:
     """Every registered rule whose class can be loaded (its declarations drive the fixes)."""
     out = []
     for name in registry.available_rules():
@@ -108,7 +108,7 @@ def rule_aliases() -> dict[str, str]:
     is itself a registered name.
     """
     claims: dict[str, set[str]] = {}
-    for rule in __rule_of():
+    for rule in _declared():
         for alias in rule.aliases:
             claims.setdefault(alias, set()).add(rule.name)
     return {a: next(iter(names)) for a, names in sorted(claims.items())
@@ -128,7 +128,7 @@ def _feature_rules() -> dict[str, dict[str, str]]:
     rule declaring that feature and specialising it (``near_window``).
     """
     out: dict[str, dict[str, str]] = {}
-    for rule in __rule_of():
+    for rule in _declared():
         if rule.feature is not None:
             meant = out.setdefault(rule.feature, {})
             for general in rule.specialises:
@@ -243,7 +243,7 @@ def _fix_surfaces(rules: list[Any], objects: list[dict[str, Any]], notes: list[s
             out.append(r)
             continue
         child, target = r["object"], r.get("target")
-        why = None
+        why, c = None, None  # c: the child's footprint, when it goes on a top
         if child in placed:
             why = f"{child!r} already rests on {placed[child]}"
         elif rule.surface == "top" and isinstance(target, str):
@@ -271,7 +271,6 @@ def _fix_surfaces(rules: list[Any], objects: list[dict[str, Any]], notes: list[s
         placed[child] = f"{target!r}" if isinstance(target, str) else f"the {rule.surface}"
         if rule.surface == "top" and isinstance(target, str):
             parent[child] = target
-            c = _size(by_id.get(child))
             if c is not None:
                 held.setdefault(target, []).append(c)
         out.append(r)

@@ -144,10 +144,16 @@ def holds(sizes: np.ndarray | list[list[float]], width: float, depth: float) -> 
 
 
 def _deepest_first(size: np.ndarray, w: float) -> np.ndarray:
-    # the depth each footprint takes once turned as _rows turns it
-    a, b = size[:, 0], size[:, 1]
+    return np.argsort(-_laid(size, w)[0][:, 1], kind="stable")
+
+
+def _laid(size: np.ndarray, w: float) -> tuple[np.ndarray, np.ndarray]:
+    """Footprints as rows across a top ``w`` wide lay them: the long side along the width where
+    it fits (or where the short side would not), and each one's turn."""
+    foot = size[:, :2]
+    a, b = foot[:, 0], foot[:, 1]
     turned = ((b > a) & (b <= w + 1e-9)) | (a > w + 1e-9)
-    return np.argsort(-np.where(turned, a, b), kind="stable")
+    return np.where(turned[:, None], foot[:, ::-1], foot), np.where(turned, np.pi / 2, 0.0)
 
 
 def _rows(size: np.ndarray, w: float, d: float, order: np.ndarray
@@ -156,15 +162,9 @@ def _rows(size: np.ndarray, w: float, d: float, order: np.ndarray
     shallow where that is what fits), the spare room shared out between them; None if they do
     not fit."""
     n = len(size)
-    foot = np.empty((n, 2))
-    yaw = np.zeros(n)
-    for k in range(n):
-        a, b = float(size[k, 0]), float(size[k, 1])
-        if (b > a and b <= w + 1e-9) or a > w + 1e-9:  # the long side along the top's width
-            a, b, yaw[k] = b, a, np.pi / 2
-        if a > w + 1e-9 or b > d + 1e-9:
-            return None
-        foot[k] = a, b
+    foot, yaw = _laid(size, w)
+    if (foot[:, 0] > w + 1e-9).any() or (foot[:, 1] > d + 1e-9).any():
+        return None
     rows: list[list[int]] = [[]]
     used = 0.0
     for k in order.tolist():

@@ -824,7 +824,7 @@ def _claimed_missing(issue: str, draft: Draft) -> str | None:
     if m is None:
         return None
     phrase = re.split(r"[.;,]| for | to | in | near | by | and ", m.group(1))[0]
-    words = [w for w in re.split(r"[^a-z0-9]+", phrase.lower()) if w]
+    words = _words(phrase)
     while words and words[0] in ("a", "an", "the", "any"):
         words = words[1:]
     for o in draft.get("objects") or []:  # an id: "the nightstand 3" for nightstand_3

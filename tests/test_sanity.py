@@ -28,6 +28,13 @@ def obj(oid, cat=None, size=(0.45, 0.4, 0.5)):
     return {"id": oid, "category": cat or oid.rstrip("_0123456789"), "size": list(size)}
 
 
+def draft(objects, rules=()):
+    """A valid plan's JSON data with ``rules`` put in unchecked: what autofix is given."""
+    data = json.loads(plan(objects).to_json())
+    data["rules"] = list(rules)
+    return data
+
+
 def five_in_corner():
     return plan([obj(f"shelf_{k}", "cabinet", (0.4, 0.4, 0.8)) for k in range(5)],
                 [{"rule": "in_corner", "object": f"shelf_{k}"} for k in range(5)])
@@ -141,15 +148,15 @@ def test_autofix_clamps_openings_and_fixes_names():
 
 
 def test_autofix_drops_surfaces_that_cannot_hold():
-    data = json.loads(plan([obj("sofa", "sofa", (2.0, 0.9, 0.8)),
-                            obj("table", "coffee_table", (0.5, 0.5, 0.45)),
-                            obj("lamp", "lamp", (0.2, 0.2, 0.4)),
-                            obj("vase", "vase", (0.1, 0.1, 0.3))]).to_json())
-    data["rules"] = [{"rule": "on_top", "object": "lamp", "target": "table"},
-                     {"rule": "on_top", "object": "vase", "target": "lamp"},
-                     {"rule": "on_top", "object": "lamp", "target": "sofa"},
-                     {"rule": "on_top", "object": "sofa", "target": "table"},
-                     {"rule": "on_top", "object": "table", "target": "vase"}]
+    data = draft([obj("sofa", "sofa", (2.0, 0.9, 0.8)),
+                  obj("table", "coffee_table", (0.5, 0.5, 0.45)),
+                  obj("lamp", "lamp", (0.2, 0.2, 0.4)),
+                  obj("vase", "vase", (0.1, 0.1, 0.3))],
+                 [{"rule": "on_top", "object": "lamp", "target": "table"},
+                  {"rule": "on_top", "object": "vase", "target": "lamp"},
+                  {"rule": "on_top", "object": "lamp", "target": "sofa"},
+                  {"rule": "on_top", "object": "sofa", "target": "table"},
+                  {"rule": "on_top", "object": "table", "target": "vase"}])
     fixed, notes = autofix(data)
     assert [(r["object"], r["target"]) for r in fixed["rules"]] == [("lamp", "table"),
                                                                      ("vase", "lamp")]
@@ -164,11 +171,11 @@ def test_autofix_drops_surfaces_that_cannot_hold():
 
 
 def test_the_room_listed_as_an_object_is_found_and_removed_with_its_rules():
-    data = json.loads(plan([obj("bathroom", "room", (2.0, 1.5, 2.5)),
-                            obj("tub", "bathtub", (1.6, 0.7, 0.6)),
-                            obj("wall_1", "wall", (2.0, 0.1, 2.5))]).to_json())
-    data["rules"] = [{"rule": "at_wall", "object": "tub"},
-                     {"rule": "near", "object": "tub", "target": "bathroom"}]
+    data = draft([obj("bathroom", "room", (2.0, 1.5, 2.5)),
+                  obj("tub", "bathtub", (1.6, 0.7, 0.6)),
+                  obj("wall_1", "wall", (2.0, 0.1, 2.5))],
+                 [{"rule": "at_wall", "object": "tub"},
+                  {"rule": "near", "object": "tub", "target": "bathroom"}])
     found = [str(f) for f in plan_findings(Plan.from_dict(data))]
     assert "objects[0].category: 'bathroom' (room) is the room itself listed as an object; " \
         "remove it: the room is described by 'room'" in found
@@ -180,9 +187,9 @@ def test_the_room_listed_as_an_object_is_found_and_removed_with_its_rules():
 
 
 def test_autofix_maps_or_drops_areas_the_plan_does_not_declare():
-    data = json.loads(plan([obj("bed", "bed", (1.0, 2.0, 0.5)),
-                            obj("plant", "plant", (0.3, 0.3, 0.6)),
-                            obj("desk", "desk", (1.2, 0.6, 0.75))]).to_json())
+    data = draft([obj("bed", "bed", (1.0, 2.0, 0.5)),
+                  obj("plant", "plant", (0.3, 0.3, 0.6)),
+                  obj("desk", "desk", (1.2, 0.6, 0.75))])
     data["areas"] = [{"name": "sleeping", "rules": []}, {"name": "work", "rules": []}]
     for o, area in zip(data["objects"], ("Sleeping area", "decor", "work"), strict=True):
         o["area"] = area
@@ -195,13 +202,13 @@ def test_autofix_maps_or_drops_areas_the_plan_does_not_declare():
 
 
 def test_autofix_keeps_on_a_top_only_what_it_can_hold_and_the_plan_then_generates():
-    data = json.loads(plan([obj("tub", "bathtub", (1.2, 0.5, 0.6)),
-                            obj("plant", "plant", (0.3, 0.3, 0.3)),
-                            obj("lamp", "lamp", (0.2, 0.2, 0.2)),
-                            obj("picture", "picture", (0.5, 0.5, 0.5)),
-                            obj("light", "ceiling_light", (0.3, 0.3, 0.3))]).to_json())
-    data["rules"] = [{"rule": "on_top", "object": o, "target": "tub"}
-                     for o in ("plant", "lamp", "picture", "light")]
+    data = draft([obj("tub", "bathtub", (1.2, 0.5, 0.6)),
+                  obj("plant", "plant", (0.3, 0.3, 0.3)),
+                  obj("lamp", "lamp", (0.2, 0.2, 0.2)),
+                  obj("picture", "picture", (0.5, 0.5, 0.5)),
+                  obj("light", "ceiling_light", (0.3, 0.3, 0.3))],
+                 [{"rule": "on_top", "object": o, "target": "tub"}
+                  for o in ("plant", "lamp", "picture", "light")])
     fixed, notes = autofix(data)
     assert [r["object"] for r in fixed["rules"]] == ["plant", "lamp", "picture"]
     assert notes == ["rules (light): removed on_top 'tub' (the top of 'tub' (1.2 x 0.5 m) has no "
@@ -211,15 +218,15 @@ def test_autofix_keeps_on_a_top_only_what_it_can_hold_and_the_plan_then_generate
 
 
 def test_autofix_resolves_opposite_rules_and_too_many_targets():
-    data = json.loads(plan([obj("sofa", "sofa", (2.0, 0.9, 0.8)),
-                            obj("table", "coffee_table", (1.0, 0.5, 0.45)),
-                            *(obj(c, "chair", (0.5, 0.5, 0.9)) for c in "abc")]).to_json())
-    data["rules"] = [{"rule": "at_wall", "object": "sofa"},
-                     {"rule": "in_middle", "object": "sofa"},
-                     {"rule": "left_of", "object": "table", "target": "sofa"},
-                     {"rule": "right_of", "object": "table", "target": "sofa"},
-                     {"rule": "right_of", "object": "a", "target": "sofa"},
-                     *({"rule": "around", "object": "table", "target": c} for c in "abc")]
+    data = draft([obj("sofa", "sofa", (2.0, 0.9, 0.8)),
+                  obj("table", "coffee_table", (1.0, 0.5, 0.45)),
+                  *(obj(c, "chair", (0.5, 0.5, 0.9)) for c in "abc")],
+                 [{"rule": "at_wall", "object": "sofa"},
+                  {"rule": "in_middle", "object": "sofa"},
+                  {"rule": "left_of", "object": "table", "target": "sofa"},
+                  {"rule": "right_of", "object": "table", "target": "sofa"},
+                  {"rule": "right_of", "object": "a", "target": "sofa"},
+                  *({"rule": "around", "object": "table", "target": c} for c in "abc")])
     assert {f.severity for f in plan_findings(Plan.from_dict(data))} == {"infeasible",
                                                                         "implausible"}
     fixed, notes = autofix(data)
@@ -235,10 +242,9 @@ def test_autofix_resolves_opposite_rules_and_too_many_targets():
 
 
 def test_an_extra_corner_object_already_at_the_wall_loses_its_corner_rule():
-    data = json.loads(plan([obj(f"chair_{k}", "chair", (0.5, 0.5, 0.9)) for k in range(6)]
-                           ).to_json())
-    data["rules"] = [*({"rule": "in_corner", "object": f"chair_{k}"} for k in range(6)),
-                     {"rule": "at_wall", "object": "chair_5"}]
+    data = draft([obj(f"chair_{k}", "chair", (0.5, 0.5, 0.9)) for k in range(6)],
+                 [*({"rule": "in_corner", "object": f"chair_{k}"} for k in range(6)),
+                  {"rule": "at_wall", "object": "chair_5"}])
     fixed, notes = autofix(data)
     assert [(r["rule"], r["object"]) for r in fixed["rules"]][4:] == [
         ("at_wall", "chair_4"), ("at_wall", "chair_5")]

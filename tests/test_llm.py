@@ -543,3 +543,16 @@ def test_close_cut_reply_keeps_whole_items_only():
         '{"objects": [{"id": "b}]ed"}]}'
     assert close_cut_reply('{"objects": [{"id": "bed", "size": [1, 2') is None  # no whole item
     assert close_cut_reply('{"objects": []}') is None                          # not cut off
+
+
+def test_shape_of_outlines_the_keys_in_the_schemas_order():
+    from forcelayout.llm.steps import ObjectsStep, SupportEdge, schema_for, shape_of
+
+    assert shape_of(schema_for(SupportEdge)) == "- object: string\n- parent: string"
+    lines = shape_of(schema_for(ObjectsStep, ["at_wall", "near"])).splitlines()
+    assert lines[0] == "- objects: list of 1-24 objects, with keys:"
+    assert "  - size: [number, number, number] — [width, depth, height] in metres; front is " \
+        "the depth side" in lines
+    assert [x.split(":")[0].strip() for x in lines if x.startswith("  - ")][-4:] == [
+        "- rule", "- object", "- target (optional)", "- params (optional)"]
+    assert "  - rule: one of \"at_wall\", \"near\" — Rule name from the vocabulary" in lines

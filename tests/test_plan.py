@@ -242,3 +242,5 @@ def test_a_rule_binding_is_labelled_as_reports_name_it():
 
     assert RuleSpec(rule="near", object="sofa", target="tv").label == "near(sofa, tv)"
     assert RuleSpec(rule="at_wall", object="bed").label == "at_wall(bed)"
+    layout = __import__("forcelayout").generate("bedroom", 1, seed=0)[0]
+    assert all(r.label == layout.plan.rules[r.index].label for r in layout.rule_report())

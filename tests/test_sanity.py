@@ -435,3 +435,14 @@ def test_rules_json_lists_the_declarations(capsys):
     (info,) = json.loads(capsys.readouterr().out)
     assert info["aliases"] == ["corner", "at_corner"] and info["fallback"] == "at_wall"
     assert info["opposite"] == "in_middle" and info["feature"] == "corner"
+
+
+def test_usual_size_and_names_the_room_read_the_category_tables():
+    from forcelayout.sanity import ROOM_AREAS, ROOM_FURNITURE, names_the_room, usual_size
+
+    assert usual_size("sofa", [2.0, 1.8, 0.8]) == [2.0, 1.2, 0.8]     # width stays the width
+    assert usual_size("couch", [0.5, 2.0, 3.0]) == [0.7, 2.0, 1.1]   # a synonym, every side
+    assert usual_size("spaceship", [9, 9, 9]) is None
+    assert [names_the_room(c) for c in ("bathroom", "wall", "living_room", "room")] == [True] * 4
+    assert [names_the_room(c) for c in ("wall_shelf", "bath", "bed", "")] == [False] * 4
+    assert set(ROOM_FURNITURE) == set(ROOM_AREAS)

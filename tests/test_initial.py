@@ -71,3 +71,36 @@ def test_start_poses_yields_each_start_with_its_verdict():
     with model.without(RuleTerm):  # a with block leaves those terms out, then restores them
         assert not any(isinstance(t, RuleTerm) for t in model.terms)
     assert any(isinstance(t, RuleTerm) for t in model.terms)
+
+
+def _one_nightstand(width: float = 4.0) -> fl.Plan:
+    return fl.Plan.model_validate({
+        "room": {"polygon": [[0, 0], [width, 0], [width, 3.0], [0, 3.0]],
+                 "doors": [{"wall": 0, "offset": 0.5, "width": 0.8}]},
+        "objects": [
+            {"id": "bed", "category": "bed", "size": [1.6, 2.0, 0.5]},
+            {"id": "nightstand", "category": "nightstand", "size": [0.45, 0.4, 0.55]},
+        ],
+        "rules": [
+            {"rule": "at_wall", "object": "bed"},
+            {"rule": "next_to", "object": "nightstand", "target": "bed"},
+            {"rule": "at_wall", "object": "nightstand"},
+        ],
+    })
+
+
+def test_one_side_child_needs_room_on_one_side_only():
+    """A bed with one nightstand may start close to a corner, the nightstand on its open side
+    (no room is kept on the side nobody needs)."""
+    model = ForceModel(_one_nightstand())
+    bed = model.ids.index("bed")
+    lo, hi = model.room.bounds[:2], model.room.bounds[2:]
+    beside = next(k for k, b in enumerate(model.bindings) if b.rule.name == "next_to")
+    in_corner = 0
+    for seed in range(40):
+        pos, yaw = propose_poses(model, np.random.default_rng(seed))
+        st = model.state(pos, yaw)
+        c = st.corners[bed].reshape(-1, 2)
+        touched = (np.abs(c.min(0) - lo) < 0.3).sum() + (np.abs(c.max(0) - hi) < 0.3).sum()
+        in_corner += bool(touched >= 2 and model.satisfied(st)[beside])
+    assert in_corner >= 5

@@ -125,6 +125,45 @@ def _wants(model: ForceModel) -> list[_Wants]:
     return out
 
 
+def _side_room(model: ForceModel, parent: np.ndarray, wants: list[_Wants]
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """Wall length to keep free on each side of a parent for the children standing beside it.
+
+    A child that stands at the wall to the ``left`` or ``right`` of its parent
+    needs its width (plus 0.1 m) on that side; children that may stand on
+    either side (``beside``) are shared out, widest first, to the side that
+    needs less so far (two nightstands: one each side; one nightstand: one
+    side, either one).
+
+    Returns
+    -------
+    sides : ndarray, shape (N, 2)
+        Metres to keep free on the left (local -x) and the right (local +x).
+    either : ndarray of bool, shape (N,)
+        Whether the sides may be swapped (some child may stand on either side).
+    """
+    n = model.n
+    sides = np.zeros((n, 2))
+    either = np.zeros(n, dtype=bool)
+    free: dict[int, list[int]] = {}
+    for c in range(n):
+        q, places = int(parent[c]), wants[c].places
+        if q < 0 or "wall" not in places or not places & _SIDE_PLACES:
+            continue
+        need = float(model.size[c, 0]) + 0.1
+        if "left" in places:
+            sides[q, 0] += need
+        elif "right" in places:
+            sides[q, 1] += need
+        else:
+            free.setdefault(q, []).append(c)
+    for q, kids in free.items():
+        either[q] = True
+        for c in sorted(kids, key=lambda c: (-model.size[c, 0], c)):
+            sides[q, int(sides[q, 1] < sides[q, 0])] += float(model.size[c, 0]) + 0.1
+    return sides, either
+
+
 def _yaw_facing(direction: np.ndarray) -> np.ndarray:
     """Yaw whose front (local +y) points along ``direction`` (K, 2)."""
     return np.arctan2(-direction[:, 0], direction[:, 1])
@@ -153,27 +192,33 @@ def _wall_candidates(
     k: int,
     half: np.ndarray,
     near: np.ndarray | None,
-    margin: float = 0.0,
+    sides: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """``k`` poses with the back against a random wall (near ``near`` points if given).
 
-    ``margin`` metres of wall are left free on both sides (room for objects
-    that stand beside this one, e.g. nightstands beside a bed).
+    ``sides`` (metres to keep free on the left and the right, see
+    :func:`_side_room`) asks for walls long enough for the object and the
+    children standing beside it; the room both sides share is left free at
+    either end of the wall.
     """
     if near is not None and len(near):
         pick = near[rng.integers(0, len(near), k)]
         cand = pick + rng.normal(0.0, 0.6, (k, 2))
         return _snap_to_wall(room, cand, half)
-    need = 2 * (half[0] + margin) + 0.02
+    left, right = (0.0, 0.0) if sides is None else (float(sides[0]), float(sides[1]))
+    need = 2 * half[0] + left + right + 0.02
     ok = room.length >= need
     if not ok.any():
         ok, need = room.length >= 2 * half[0] + 0.02, 2 * half[0] + 0.02
+    end = half[0] + 0.01  # the centre's distance from either end of the wall
+    if ok.any() and need > 2 * half[0] + 0.02:
+        end += min(left, right)
     weight = np.where(ok, room.length, 0.0)
     if weight.sum() <= 0:
         weight = room.length.copy()
     walls = rng.choice(room.n_walls, size=k, p=weight / weight.sum())
-    slack = np.maximum(room.length[walls] - need, 0.0)
-    along = 0.5 * need + rng.uniform(0.0, 1.0, k) * slack
+    slack = np.maximum(room.length[walls] - 2 * end, 0.0)
+    along = end + rng.uniform(0.0, 1.0, k) * slack
     cand = room.a[walls] + room.tangent[walls] * along[:, None]
     return _snap_to_wall(room, cand, half, walls)
 
@@ -503,12 +548,7 @@ class _Placer:
         self.by_object = _bindings_of(model)
         self.window = next((t for t in model.terms if isinstance(t, WindowTerm)), None)
         self.order = _order(parent, model.size[:, 0] * model.size[:, 1])
-        # wall length to keep free beside a parent for children standing beside it
-        margin = np.zeros(n)
-        for c in range(n):
-            if parent[c] >= 0 and "wall" in wants[c].places and wants[c].places & _SIDE_PLACES:
-                margin[parent[c]] = max(margin[parent[c]], model.size[c, 0] + 0.1)
-        self.margin = margin
+        self.sides, self.either = _side_room(model, parent, wants)
         # floor to keep free in front of a parent for children standing in front of it
         front = np.zeros(n)
         for c in range(n):
@@ -567,8 +607,8 @@ class _Placer:
         """Choose a pose for row ``r`` given the ``placed`` rows; writes ``pos[r], yaw[r]``."""
         model, room = self.model, self.room
         half, radius, parent, wants = self.half, self.radius, self.parent, self.wants
-        walkable, by_object, window, margin = self.walkable, self.by_object, self.window, \
-            self.margin
+        walkable, by_object, window = self.walkable, self.by_object, self.window
+        sides = self.sides[r]  # wall to keep free on the left and the right, metres
         lo, hi = self.lo, self.hi
         w = wants[r]
         places = w.places
@@ -584,7 +624,7 @@ class _Placer:
                                            radius, spread)
         elif "wall" in places:
             near = opening.centre if opening is not None else None
-            cand, cyaw = _wall_candidates(room, rng, tries, half[r], near, margin[r])
+            cand, cyaw = _wall_candidates(room, rng, tries, half[r], near, sides)
         elif opening is not None:
             cand = opening.centre[rng.integers(0, len(opening), tries)] \
                 + rng.normal(0.0, 0.6, (tries, 2))
@@ -616,13 +656,19 @@ class _Placer:
         # footprint alone; walkable covers are no obstacle (furniture stands on them)
         solid = [] if walkable[r] else [p for p in placed if not walkable[p]]
         slack = np.array([0.045 if p in w.related else 0.0 for p in solid])
-        inside, clear = self._clearance(cand, rgt, fwd, half[r] + np.array([margin[r], 0.0]),
-                                        solid, slack, pos, yaw, not walkable[r])
-        if margin[r] > 0:
-            inside0, clear0 = self._clearance(cand, rgt, fwd, half[r], solid, slack, pos, yaw,
-                                              not walkable[r])
-        else:
-            inside0, clear0 = inside, clear
+        inside0, clear0 = self._clearance(cand, rgt, fwd, half[r], solid, slack, pos, yaw,
+                                          not walkable[r])
+        inside, clear = inside0, clear0
+        if sides.max() > 0:  # the footprint widened by the wall its side children need
+            left, right = sides
+            ext = half[r] + np.array([0.5 * (left + right), 0.0])
+            inside, clear = self._clearance(cand + rgt * (0.5 * (right - left)), rgt, fwd, ext,
+                                            solid, slack, pos, yaw, not walkable[r])
+            if self.either[r]:  # a child that may stand on either side: or mirrored
+                i2, c2 = self._clearance(cand + rgt * (0.5 * (left - right)), rgt, fwd, ext,
+                                         solid, slack, pos, yaw, not walkable[r])
+                better = i2 & (c2 > np.where(inside, clear, -np.inf))
+                inside, clear = inside | i2, np.where(better, c2, clear)
         unmet = _unmet(room, w, cand, fwd, rgt, half[r])
         unmet += _unmet_rules(model, by_object[r], r, cand, cyaw, pos, yaw, placed)
         if window is not None and window.tall[:, r].any():  # tall: not in front of a window

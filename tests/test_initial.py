@@ -6,7 +6,7 @@ from hypothesis import HealthCheck, given, settings
 
 import forcelayout as fl
 from forcelayout.forces import ForceModel, RuleTerm
-from forcelayout.initial import initial_poses, parents, propose_poses
+from forcelayout.initial import initial_poses, parents, propose_poses, start_poses
 from forcelayout.testing import plans
 
 
@@ -104,3 +104,26 @@ def test_one_side_child_needs_room_on_one_side_only():
         touched = (np.abs(c.min(0) - lo) < 0.3).sum() + (np.abs(c.max(0) - hi) < 0.3).sum()
         in_corner += bool(touched >= 2 and model.satisfied(st)[beside])
     assert in_corner >= 5
+
+
+def test_a_start_within_the_rule_share_is_not_searched_further():
+    """A start whose only failures are unmet bindings within ``misses`` is not drawn again."""
+    from forcelayout.verdict import FloorVerdict, allowed_misses, judge_floor
+
+    assert allowed_misses(20, 0.95) == 1 and allowed_misses(19, 0.95) == 0
+    assert allowed_misses(0, 0.5) == 0 and allowed_misses(10, 1.0) == 0
+    v = FloorVerdict(["next_to(a, b)"], {0}, unmet=1)
+    assert v.passes(1) and not v.passes(0) and not v.ok
+    assert not FloorVerdict(["collision: 'a' overlaps 'b'"], {0, 1}).passes(5)
+    model = ForceModel(fl.load_plan("living_room"))
+    kept = 0
+    for seed in range(8):
+        fresh = propose_poses(model, np.random.default_rng(seed))
+        first = judge_floor(model, *fresh)
+        loose = next(start_poses(model, np.random.default_rng(seed), misses=first.unmet))
+        strict = next(start_poses(model, np.random.default_rng(seed), misses=0))
+        if first.passes(first.unmet):  # accepted as drawn, unmet bindings and all
+            np.testing.assert_array_equal(loose[0], fresh[0])
+            kept += first.unmet > 0
+        assert len(strict[2].failures) <= len(first.failures)
+    assert kept >= 1

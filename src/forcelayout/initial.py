@@ -411,16 +411,19 @@ def start_poses(
     spread: float = 0.3,
     restarts: int = 32,
     fixes: int = 2,
+    misses: int = 0,
 ) -> Iterator[tuple[np.ndarray, np.ndarray, FloorVerdict]]:
     """Up to ``restarts`` independent starts, each with its verdict.
 
     Each start comes from :func:`propose_poses` and is judged as a settled
     floor is (:func:`forcelayout.verdict.judge_floor`: the deterministic
-    checks and every rule's own check); up to ``fixes`` times the objects at
-    fault (those blocking a path, colliding, in a door swing or a window zone,
-    or with an unmet rule) and the objects that start beside them are drawn
-    again elsewhere (:func:`relocate`), kept if fewer failures remain. The
-    caller stops drawing when it has what it needs.
+    checks and every rule's own check); unless it passes every check with at
+    most ``misses`` unmet bindings (:meth:`FloorVerdict.passes`), up to
+    ``fixes`` times the objects at fault (those blocking a path, colliding,
+    in a door swing or a window zone, or with an unmet rule) and the objects
+    that start beside them are drawn again elsewhere (:func:`relocate`),
+    kept if fewer failures remain. The caller stops drawing when it has
+    what it needs.
 
     Yields
     ------
@@ -438,7 +441,7 @@ def start_poses(
         pos, yaw = _propose(model, placer, rng, pos, yaw, tries, spread)
         verdict = _judge(model, pos, yaw)
         for _ in range(max(0, fixes)):
-            if verdict.ok or not verdict.at_fault:
+            if verdict.passes(misses) or not verdict.at_fault:
                 break
             rows = np.zeros(model.n, dtype=bool)
             rows[sorted(verdict.at_fault)] = True

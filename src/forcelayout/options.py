@@ -97,6 +97,9 @@ class Options:
     min_rule_satisfaction : float
         A sample meeting a smaller fraction of its rules is rejected
         (default 0.95: layouts that are valid *and* do what the plan says).
+        The floor's start poses are judged the same way: a start that passes
+        the checks and leaves no more bindings unmet than this allows is
+        settled as it is, not searched further (1.0 asks for every rule).
     check : bool
         Run the deterministic checks (collisions, inside the room, door
         clearance, navigability, reachability) and reject failures.

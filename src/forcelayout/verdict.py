@@ -17,7 +17,7 @@ from forcelayout.forces import ForceModel
 from forcelayout.layout import Layout, Pose
 from forcelayout.validate import check_layout
 
-__all__ = ["FloorVerdict", "judge_floor"]
+__all__ = ["FloorVerdict", "judge_floor", "allowed_misses"]
 
 _QUOTED = re.compile(r"'([^']+)'")
 
@@ -32,15 +32,38 @@ class FloorVerdict:
         Failed checks (``"<check>: ..."``) and unmet bindings (``"rule(object, target)"``).
     at_fault : set of int
         Rows of the objects to move.
+    unmet : int
+        How many of ``failures`` are unmet bindings (the rest are failed checks).
     """
 
     failures: list[str] = field(default_factory=list)
     at_fault: set[int] = field(default_factory=set)
+    unmet: int = 0
 
     @property
     def ok(self) -> bool:
         """Whether nothing failed."""
         return not self.failures
+
+    def passes(self, misses: int = 0) -> bool:
+        """Whether every check passed and at most ``misses`` bindings are unmet.
+
+        A sample is accepted when it meets a share of its rules
+        (``Options.min_rule_satisfaction``); ``misses`` is how many of the
+        plan's bindings that share leaves unmet (see :func:`allowed_misses`).
+        """
+        return len(self.failures) - self.unmet == 0 and self.unmet <= misses
+
+
+def allowed_misses(n_bindings: int, min_rule_satisfaction: float) -> int:
+    """How many of ``n_bindings`` may be unmet while at least ``min_rule_satisfaction`` are met.
+
+    >>> allowed_misses(20, 0.95), allowed_misses(19, 0.95), allowed_misses(40, 1.0)
+    (1, 0, 0)
+    """
+    if n_bindings <= 0:
+        return 0
+    return max(0, int(np.floor(n_bindings * (1.0 - min_rule_satisfaction) + 1e-9)))
 
 
 def judge_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
@@ -82,5 +105,6 @@ def judge_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
         if not ok:
             b = model.bindings[k]
             out.failures.append(str(b))
+            out.unmet += 1
             out.at_fault.add(row[b.object])
     return out

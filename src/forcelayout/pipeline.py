@@ -27,7 +27,7 @@ from forcelayout.solver import SimulationResult, simulate
 from forcelayout.surfaces import check_surfaces, place_surfaces
 from forcelayout.verdict import allowed_misses, judge_floor
 
-__all__ = ["Placement", "realise", "prepare", "SETTLE_STARTS"]
+__all__ = ["Placement", "realise", "prepare", "SETTLE_STARTS", "SETTLE_MIN_STEPS"]
 
 
 @dataclass
@@ -60,6 +60,9 @@ class Placement:
 #: Starts that pass and are settled, at most, before the full simulation runs from the first.
 SETTLE_STARTS = 3
 
+#: Fewest steps of settling a start that passes (then it stops once at rest).
+SETTLE_MIN_STEPS = 10
+
 _PREPARED: dict[int, Plan] = {}
 
 
@@ -89,13 +92,15 @@ def _settle(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, opts: Options, 
     At most ``SolverConfig.settle_steps`` steps: they square the objects up
     and press them to their walls, where the walking-room and access terms of
     the full simulation would rearrange an arrangement that needs no
-    rearranging. Returns the result and whether it still passes (with at most
-    ``misses`` bindings unmet).
+    rearranging. A start that is already at rest stops after
+    ``SETTLE_MIN_STEPS`` (the rule forces are strongest at the first steps of
+    the annealing, so rest then is rest). Returns the result and whether it
+    still passes (with at most ``misses`` bindings unmet).
     """
     cfg = opts.solver
     with model.without(PassageTerm, AccessTerm):
         res = simulate(model, pos, yaw, replace(cfg, max_steps=cfg.settle_steps,
-                                                min_steps=min(cfg.min_steps,
+                                                min_steps=min(cfg.min_steps, SETTLE_MIN_STEPS,
                                                               cfg.settle_steps)))
     return res, judge_floor(model, res.pos, res.yaw, opts.check_kwargs).passes(misses)
 

@@ -32,6 +32,11 @@ _SIDE_PLACES = frozenset({"beside", "left", "right"})
 #: Clearance a start pose keeps to other objects and door zones, metres (less a rounding
 #: tolerance: a pose flush against a wall beside a door zone sits right at it).
 _CLEAR = 0.05 - 1e-6
+#: Gaps a child starts at beside or in front of its parent, metres (drawn uniformly).
+_GAP = (0.02, 0.1)
+#: Wall a child beside its parent takes besides its width: the closest gap it starts at
+#: and the clearance a start keeps to whatever stands beyond it, metres.
+_BESIDE = _GAP[0] + 0.05
 
 
 @dataclass
@@ -130,8 +135,9 @@ def _side_room(model: ForceModel, parent: np.ndarray, wants: list[_Wants]
     """Wall length to keep free on each side of a parent for the children standing beside it.
 
     A child that stands at the wall to the ``left`` or ``right`` of its parent
-    needs its width (plus 0.1 m) on that side; children that may stand on
-    either side (``beside``) are shared out, widest first, to the side that
+    needs its width on that side, plus ``_BESIDE`` (the closest gap it starts
+    at and the clearance a start keeps); children that may stand on either
+    side (``beside``) are shared out, widest first, to the side that
     needs less so far (two nightstands: one each side; one nightstand: one
     side, either one).
 
@@ -150,7 +156,7 @@ def _side_room(model: ForceModel, parent: np.ndarray, wants: list[_Wants]
         q, places = int(parent[c]), wants[c].places
         if q < 0 or "wall" not in places or not places & _SIDE_PLACES:
             continue
-        need = float(model.size[c, 0]) + 0.1
+        need = float(model.size[c, 0]) + _BESIDE
         if "left" in places:
             sides[q, 0] += need
         elif "right" in places:
@@ -160,7 +166,7 @@ def _side_room(model: ForceModel, parent: np.ndarray, wants: list[_Wants]
     for q, kids in free.items():
         either[q] = True
         for c in sorted(kids, key=lambda c: (-model.size[c, 0], c)):
-            sides[q, int(sides[q, 1] < sides[q, 0])] += float(model.size[c, 0]) + 0.1
+            sides[q, int(sides[q, 1] < sides[q, 0])] += float(model.size[c, 0]) + _BESIDE
     return sides, either
 
 
@@ -258,7 +264,7 @@ def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius,
         side[:] = 1.0
     elif "left" in places:
         side[:] = -1.0
-    gap = rng.uniform(0.02, 0.1, k)[:, None]
+    gap = rng.uniform(*_GAP, k)[:, None]
     same = np.full(k, yaw[q])
     if "beneath" in places:  # centred under the parent, square with it
         cand = pos[q] + rng.normal(0.0, 0.05, (k, 2))

@@ -108,3 +108,41 @@ def test_same_seed_same_layout_with_repairs():
     a = fl.solve("living_room", 3)
     b = fl.solve("living_room", 3)
     assert a.poses == b.poses and a.report.repairs == b.report.repairs
+
+
+def test_a_repair_moves_the_parent_when_the_child_alone_cannot_be_fixed():
+    """A sofa that can only face its TV from under a low window moves with the TV."""
+    from forcelayout.options import SolverConfig
+    from forcelayout.repair import repair_floor
+    from forcelayout.verdict import judge_floor
+
+    plan = fl.Plan.model_validate({
+        "room": {"polygon": [[0, 0], [3.6, 0], [3.6, 3.6], [0, 3.6]],
+                 "doors": [{"wall": 1, "offset": 0.6, "width": 0.8}],
+                 "windows": [{"wall": 0, "offset": 1.8, "width": 3.0, "sill": 0.5}]},
+        "objects": [
+            {"id": "tv_stand", "category": "tv_stand", "size": [1.4, 0.45, 0.5]},
+            {"id": "sofa", "category": "sofa", "size": [2.0, 0.9, 0.85]},
+        ],
+        "rules": [
+            {"rule": "at_wall", "object": "tv_stand"},
+            {"rule": "at_wall", "object": "sofa"},
+            {"rule": "facing", "object": "sofa", "target": "tv_stand"},
+        ],
+    })
+    model = ForceModel(plan)
+    tv, sofa = model.ids.index("tv_stand"), model.ids.index("sofa")
+    pos = np.zeros((2, 2))
+    yaw = np.zeros(2)
+    pos[tv], yaw[tv] = (1.8, 3.6 - 0.235), np.pi  # back to the top wall, facing down
+    pos[sofa], yaw[sofa] = (1.8, 0.46), 0.0  # under the window, facing the TV
+    before = judge_floor(model, pos, yaw)
+    assert any(f.startswith("window") for f in before.failures)
+    fixed = 0
+    for seed in range(4):
+        p, y, _, notes = repair_floor(model, pos, yaw, SolverConfig(), rounds=6,
+                                      rng=np.random.default_rng(seed))
+        if judge_floor(model, p, y).ok:
+            fixed += 1
+            assert any("tv_stand" in n for n in notes)  # the TV moved too
+    assert fixed >= 2

@@ -427,7 +427,8 @@ def start_poses(
     most ``misses`` unmet bindings (:meth:`FloorVerdict.passes`), up to
     ``fixes`` times the objects at fault (those blocking a path, colliding,
     in a door swing or a window zone, or with an unmet rule) and the objects
-    that start beside them are drawn again elsewhere (:func:`relocate`),
+    that start beside them (the second time their parents too) are drawn
+    again elsewhere (:func:`relocate`),
     kept if fewer failures remain. The caller stops drawing when it has
     what it needs.
 
@@ -446,11 +447,14 @@ def start_poses(
         yaw = rng.uniform(-np.pi, np.pi, model.n)
         pos, yaw = _propose(model, placer, rng, pos, yaw, tries, spread)
         verdict = _judge(model, pos, yaw)
-        for _ in range(max(0, fixes)):
+        for f in range(max(0, fixes)):
             if verdict.passes(misses) or not verdict.at_fault:
                 break
             rows = np.zeros(model.n, dtype=bool)
             rows[sorted(verdict.at_fault)] = True
+            if f % 2 == 1:  # the second time, with their parents
+                up = placer.parent[rows]
+                rows[up[up >= 0]] = True
             rows |= np.isin(placer.parent, np.flatnonzero(rows))
             p2, y2 = _relocate(model, placer, np.flatnonzero(rows), pos, yaw, rng, tries,
                                spread)

@@ -36,8 +36,9 @@ def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: So
     Round 1 resettles the objects at fault where they are; later rounds (given
     ``rng``) first move them to new spots drawn as start poses are
     (:func:`forcelayout.initial.relocate`: another wall, another corner, the
-    other side of their parent), then resettle them. Three rounds in a row that
-    do not help end the repair.
+    other side of their parent), with their parents every other round (rounds
+    3, 5, ...), then resettle them. Three rounds in a row that do not help end
+    the repair.
 
     Parameters
     ----------
@@ -80,6 +81,10 @@ def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: So
         movers[sorted(verdict.at_fault)] = True
         start_pos, start_yaw, how = pos, yaw, "resettled"
         if k > 0 and rng is not None:
+            if k % 2 == 0:  # every other round its parent moves too: a sofa that can only
+                # face its TV from in front of a window moves with the TV
+                up = parent[movers]
+                movers[up[up >= 0]] = True
             # an object moves elsewhere with the objects that start beside it (its children)
             movers |= np.isin(parent, np.flatnonzero(movers))
             start_pos, start_yaw = relocate(model, np.flatnonzero(movers), pos, yaw, rng)

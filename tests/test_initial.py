@@ -127,3 +127,22 @@ def test_a_start_within_the_rule_share_is_not_searched_further():
             kept += first.unmet > 0
         assert len(strict[2].failures) <= len(first.failures)
     assert kept >= 1
+
+
+def test_a_start_misses_a_rule_rather_than_block_a_window():
+    """Where a desk can be near the window only in front of it (a low sill), it starts
+    clear of the window zone (a failed check rejects a sample; a missed rule may not)."""
+    plan = fl.Plan.model_validate({
+        "room": {"polygon": [[0, 0], [4.0, 0], [4.0, 4.0], [0, 4.0]],
+                 "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}],
+                 "windows": [{"wall": 2, "offset": 2.0, "width": 3.2, "sill": 0.5}]},
+        "objects": [{"id": "desk", "category": "desk", "size": [1.1, 0.55, 0.75]}],
+        "rules": [{"rule": "at_wall", "object": "desk"},
+                  {"rule": "near_window", "object": "desk", "params": {"distance": 1.0}}],
+    })
+    model = ForceModel(plan)
+    blocked = 0
+    for seed in range(12):
+        pos, yaw, verdict = next(start_poses(model, np.random.default_rng(seed), misses=1))
+        blocked += any(f.startswith("window") for f in verdict.failures)
+    assert blocked <= 1

@@ -690,7 +690,9 @@ class _Placer:
                                      fwd[:, None], half[r][None, None],
                                      window.lateral[z][None], window.out[z][None],
                                      window.half[z][None])
-            unmet += (sep < -0.02).any(axis=1)
+            # a failed check rejects a sample, an unmet rule may be within its tolerance:
+            # a spot in a window zone ranks below one that misses any few rules
+            unmet += 4.0 * (sep < -0.02).any(axis=1)
         score = np.where(inside0, clear0, -np.inf)
         roomy = inside & (clear >= _CLEAR)  # room along the wall for its side children
         fm = self.front_margin[r]

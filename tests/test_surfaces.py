@@ -250,3 +250,27 @@ def test_what_a_top_holds_by_the_row_test_lands_on_it(sizes, w, d):
                   for k in range(len(sizes))]})
     layouts = fl.generate(plan, 1, max_attempts=3, seed=1)
     assert len(layouts) == 1, layouts.failures
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_a_child_at_the_wall_on_a_top_stands_at_the_wall_behind_its_parent(seed):
+    """A TV on a stand against a wall, itself ``at_wall``, ends at the stand's back edge."""
+    plan = fl.Plan.model_validate({
+        "room": {"polygon": [[0, 0], [4.0, 0], [4.0, 3.5], [0, 3.5]],
+                 "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}]},
+        "objects": [
+            {"id": "tv_stand", "category": "tv_stand", "size": [1.6, 0.45, 0.5]},
+            {"id": "tv", "category": "tv", "size": [1.2, 0.2, 0.7]},
+            {"id": "vase", "category": "vase", "size": [0.15, 0.15, 0.3]},
+        ],
+        "rules": [
+            {"rule": "at_wall", "object": "tv_stand"},
+            {"rule": "on_top", "object": "tv", "target": "tv_stand"},
+            {"rule": "at_wall", "object": "tv"},
+            {"rule": "on_top", "object": "vase", "target": "tv_stand"},
+        ],
+    })
+    layout = fl.solve(plan, seed)
+    assert layout.poses["tv"].surface == "tv_stand"
+    met = {r.label: r.satisfied for r in layout.rule_report()}
+    assert met["at_wall(tv_stand)"] and met["at_wall(tv)"]

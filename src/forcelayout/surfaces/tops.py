@@ -3,7 +3,9 @@
 The top is a rectangle "room" of the parent's width x depth in the parent's
 frame; the children are simulated there with their rules between each other
 (a rule whose start hint is a wall or corner, such as ``at_wall``, means the
-top's edge), then carried to the room at ``z`` = parent's ``z`` + parent's
+top's edge; an ``at_wall`` child starts at the parent's back edge, turned as
+the parent is, so a TV ends against the wall behind its stand), then carried
+to the room at ``z`` = parent's ``z`` + parent's
 height. A top too crowded for the simulation to settle (four boxes on a
 0.2 x 0.4 m shelf) has its objects set out in rows instead, in a random
 order; only objects that cannot fit at all are reported missing.
@@ -72,15 +74,23 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
     size = cp.size(kids)
     pos = np.zeros((len(kids), 2))
     yaw = np.zeros(len(kids))
+    bindings = _top_bindings(cp, set(kids))
+    # a child that stands at a wall starts at the parent's back edge, turned as the
+    # parent is: the parent's back is the side at a wall (a TV at the wall behind its stand)
+    at_back = {b.object for b in bindings if b.target is None
+               and b.rule.start is not None and b.rule.start.place == "wall"}
     for r in range(len(kids)):
         best, best_gap = None, -np.inf
+        back = kids[r] in at_back and size[r, 0] <= pw + 1e-9 and size[r, 1] <= pd + 1e-9
         for _ in range(12):
-            y = float(rng.integers(4)) * np.pi / 2
+            y = 0.0 if back else float(rng.integers(4)) * np.pi / 2
             w, d = (size[r, 0], size[r, 1]) if int(round(y / (np.pi / 2))) % 2 == 0 \
                 else (size[r, 1], size[r, 0])
             if w > pw + 1e-9 or d > pd + 1e-9:
                 continue
             p = rng.uniform([-(pw - w) / 2, -(pd - d) / 2], [(pw - w) / 2, (pd - d) / 2])
+            if back:
+                p[1] = -(pd - d) / 2
             gap = _min_gap(np.vstack([pos[:r], p]), np.append(yaw[:r], y), size[: r + 1],
                            last_only=True)
             if gap > best_gap:
@@ -91,8 +101,7 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
             out.missing.append(f"{kids[r]}: does not fit on top of {parent!r} in any orientation")
             return
         pos[r], yaw[r] = best
-    model = ForceModel(cp, kids, bindings=_top_bindings(cp, set(kids)), room=room,
-                       relations=relations)
+    model = ForceModel(cp, kids, bindings=bindings, room=room, relations=relations)
     res = simulate(model, pos, yaw, plane_solver(cfg))
     out.steps += res.steps
     out.converged &= res.converged

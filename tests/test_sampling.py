@@ -277,3 +277,12 @@ def test_a_duplicate_sample_says_so():
     dups = [r for r in result.rejected if DistinctLayouts.FAILURE in r.failures]
     assert dups and all(r.valid for r in dups)
     assert result.summary()["failure_reasons"]["duplicate"] == len(dups)
+
+
+def test_accepting_any_sample_does_not_make_starts_miss_more_rules():
+    """min_rule_satisfaction=0 keeps every sample, but its starts meet the rules as by default."""
+    plan = fl.load_plan("living_room")
+    for seed in range(4):
+        strict = fl.solve(plan, seed)
+        loose = fl.solve(plan, seed, min_rule_satisfaction=0.0)
+        assert loose.poses == strict.poses

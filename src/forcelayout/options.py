@@ -99,7 +99,9 @@ class Options:
         (default 0.95: layouts that are valid *and* do what the plan says).
         The floor's start poses are judged the same way: a start that passes
         the checks and leaves no more bindings unmet than this allows is
-        settled as it is, not searched further (1.0 asks for every rule).
+        settled as it is, not searched further (1.0 asks for every rule); a
+        lower value than 0.95 (``pipeline.START_RULE_SATISFACTION``) accepts
+        more samples but does not let starts miss more rules.
     check : bool
         Run the deterministic checks (collisions, inside the room, door
         clearance, navigability, reachability) and reject failures.

@@ -27,7 +27,8 @@ from forcelayout.solver import SimulationResult, simulate
 from forcelayout.surfaces import check_surfaces, place_surfaces
 from forcelayout.verdict import allowed_misses, judge_floor
 
-__all__ = ["Placement", "realise", "prepare", "SETTLE_STARTS", "SETTLE_MIN_STEPS"]
+__all__ = ["Placement", "realise", "prepare", "SETTLE_STARTS", "SETTLE_MIN_STEPS",
+           "START_RULE_SATISFACTION"]
 
 
 @dataclass
@@ -59,6 +60,10 @@ class Placement:
 
 #: Starts that pass and are settled, at most, before the full simulation runs from the first.
 SETTLE_STARTS = 3
+
+#: Share of its rules a start must meet to be settled as drawn, at the least (a stricter
+#: ``Options.min_rule_satisfaction`` asks for more).
+START_RULE_SATISFACTION = 0.95
 
 #: Fewest steps of settling a start that passes (then it stops once at rest).
 SETTLE_MIN_STEPS = 10
@@ -109,8 +114,11 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options
                 ) -> tuple[dict[str, Pose], int, bool, list[str]]:
     model = ForceModel(plan, relations=opts.relations)
     settle = opts.solver.settle_steps > 0 and opts.relations and model.n > 0
-    # a start may leave unmet as many bindings as the sample's acceptance allows
-    misses = allowed_misses(len(model.compiled.bindings), opts.min_rule_satisfaction)
+    # a start may leave unmet as many bindings as the sample's acceptance allows, but
+    # never more than the default acceptance does: a run that accepts any sample
+    # (min_rule_satisfaction=0) still gets starts that meet its rules
+    misses = allowed_misses(len(model.compiled.bindings),
+                            max(opts.min_rule_satisfaction, START_RULE_SATISFACTION))
     steps, settled, start, fewest, tried = 0, None, None, np.inf, 0
     for pos0, yaw0, verdict in start_poses(model, rng, misses=misses):
         if len(verdict.failures) < fewest:  # the first start with the fewest failures

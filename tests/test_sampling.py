@@ -286,3 +286,17 @@ def test_accepting_any_sample_does_not_make_starts_miss_more_rules():
         strict = fl.solve(plan, seed)
         loose = fl.solve(plan, seed, min_rule_satisfaction=0.0)
         assert loose.poses == strict.poses
+
+
+def test_a_start_at_rest_settles_in_few_steps():
+    """A start that passes and is already at rest stops settling soon after SETTLE_MIN_STEPS."""
+    from forcelayout.pipeline import SETTLE_MIN_STEPS
+
+    plan = fl.Plan.model_validate({
+        "room": {"polygon": [[0, 0], [4.0, 0], [4.0, 4.0], [0, 4.0]],
+                 "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}]},
+        "objects": [{"id": "wardrobe", "category": "wardrobe", "size": [1.2, 0.6, 2.0]}],
+        "rules": [{"rule": "at_wall", "object": "wardrobe"}],
+    })
+    steps = [fl.solve(plan, seed).report.steps for seed in range(5)]
+    assert all(SETTLE_MIN_STEPS <= s < fl.SolverConfig().min_steps for s in steps), steps

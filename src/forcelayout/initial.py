@@ -428,9 +428,8 @@ def start_poses(
     ``fixes`` times the objects at fault (those blocking a path, colliding,
     in a door swing or a window zone, or with an unmet rule) and the objects
     that start beside them (the second time their parents too) are drawn
-    again elsewhere (:func:`relocate`),
-    kept if fewer failures remain. The caller stops drawing when it has
-    what it needs.
+    again elsewhere (:func:`relocate`), kept if fewer failures remain. The
+    caller stops drawing when it has what it needs.
 
     Yields
     ------

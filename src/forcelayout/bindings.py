@@ -32,7 +32,7 @@ from pydantic import BaseModel
 
 from forcelayout import rules as registry
 from forcelayout.geometry import RoomGeometry
-from forcelayout.plan import Plan
+from forcelayout.plan import Plan, _binding_label
 from forcelayout.rules.base import ParamArrays, Rule, State
 
 __all__ = ["Binding", "RuleGroup", "CompiledPlan", "compile_plan", "group_bindings"]
@@ -81,8 +81,7 @@ class Binding:
                    float(inst.weight if weight is None else weight), bond)
 
     def __str__(self) -> str:
-        tgt = f", {self.target}" if self.target is not None else ""
-        return f"{self.rule.name}({self.object}{tgt})"
+        return _binding_label(self.rule.name, self.object, self.target)
 
 
 @dataclass

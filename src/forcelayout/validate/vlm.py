@@ -344,8 +344,7 @@ class VLMJudge:
             + (f", {o.description}" if o.description else "")
             for o in plan.objects if o.id in placed) or "(none)"
         rules = "\n".join(
-            f"- {r.rule}({r.object}{', ' + r.target if r.target else ''})"
-            for r in plan.rules) or "(none)"
+            f"- {r.label}" for r in plan.rules) or "(none)"
         return self.prompts.user.format(
             name=plan.name, description=getattr(plan, "description", "") or "",
             objects=objects, rules=rules, views=self.prompts.describe_views(self.views))

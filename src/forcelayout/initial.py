@@ -212,13 +212,12 @@ def _wall_candidates(
         cand = pick + rng.normal(0.0, 0.6, (k, 2))
         return _snap_to_wall(room, cand, half)
     left, right = (0.0, 0.0) if sides is None else (float(sides[0]), float(sides[1]))
-    need = 2 * half[0] + left + right + 0.02
-    ok = room.length >= need
-    if not ok.any():
-        ok, need = room.length >= 2 * half[0] + 0.02, 2 * half[0] + 0.02
+    ok = room.length >= 2 * half[0] + left + right + 0.02
     end = half[0] + 0.01  # the centre's distance from either end of the wall
-    if ok.any() and need > 2 * half[0] + 0.02:
+    if ok.any():
         end += min(left, right)
+    else:  # no wall takes its children too: any wall that takes the object
+        ok = room.length >= 2 * half[0] + 0.02
     weight = np.where(ok, room.length, 0.0)
     if weight.sum() <= 0:
         weight = room.length.copy()
@@ -451,16 +450,25 @@ def start_poses(
                 break
             rows = np.zeros(model.n, dtype=bool)
             rows[sorted(verdict.at_fault)] = True
-            if f % 2 == 1:  # the second time, with their parents
-                up = placer.parent[rows]
-                rows[up[up >= 0]] = True
-            rows |= np.isin(placer.parent, np.flatnonzero(rows))
+            rows = _movers(placer.parent, rows, with_parents=f % 2 == 1)  # parents: 2nd time
             p2, y2 = _relocate(model, placer, np.flatnonzero(rows), pos, yaw, rng, tries,
                                spread)
             again = _judge(model, p2, y2)
             if len(again.failures) < len(verdict.failures):
                 pos, yaw, verdict = p2, y2, again
         yield pos, yaw, verdict
+
+
+def _movers(parent: np.ndarray, rows: np.ndarray, *, with_parents: bool = False
+            ) -> np.ndarray:
+    """The objects drawn again with ``rows`` (bool, (N,)): their children, which start beside
+    them, and with ``with_parents`` their parents and the parents' children too (a sofa that
+    can only face its TV from under a low window moves with the TV)."""
+    rows = rows.copy()
+    if with_parents:
+        up = parent[rows]
+        rows[up[up >= 0]] = True
+    return rows | np.isin(parent, np.flatnonzero(rows))
 
 
 def _judge(model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> FloorVerdict:

@@ -20,7 +20,7 @@ from dataclasses import replace
 import numpy as np
 
 from forcelayout.forces import ForceModel, PassageTerm
-from forcelayout.initial import parents, relocate
+from forcelayout.initial import _movers, parents, relocate
 from forcelayout.options import SolverConfig
 from forcelayout.solver import simulate
 from forcelayout.verdict import FloorVerdict, judge_floor
@@ -81,12 +81,9 @@ def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: So
         movers[sorted(verdict.at_fault)] = True
         start_pos, start_yaw, how = pos, yaw, "resettled"
         if k > 0 and rng is not None:
-            if k % 2 == 0:  # every other round its parent moves too: a sofa that can only
-                # face its TV from in front of a window moves with the TV
-                up = parent[movers]
-                movers[up[up >= 0]] = True
-            # an object moves elsewhere with the objects that start beside it (its children)
-            movers |= np.isin(parent, np.flatnonzero(movers))
+            # an object moves elsewhere with the objects that start beside it (its
+            # children), every other round with its parent too
+            movers = _movers(parent, movers, with_parents=k % 2 == 0)
             start_pos, start_yaw = relocate(model, np.flatnonzero(movers), pos, yaw, rng)
             how = "moved elsewhere"
         walkway = _walkway(model, movers)

@@ -117,3 +117,20 @@ def test_a_start_that_passes_is_settled_not_rearranged():
     for lay in settled:
         if lay.report.valid:
             assert lay.check().ok
+
+
+def test_a_start_nothing_acts_on_is_returned_at_once():
+    m = ForceModel(two_boxes())
+    pos = np.array([[1.0, 1.7], [3.0, 1.7]])  # square, apart, clear of the walls and the door
+    res = simulate(m, pos, np.zeros(2), SolverConfig(min_steps=40))
+    assert res.steps == 0 and res.converged
+    np.testing.assert_array_equal(res.pos, pos)
+
+
+def test_a_start_overlapping_an_obstacle_is_simulated():
+    m = ForceModel(two_boxes())
+    pos = np.array([[1.0, 1.7], [3.0, 1.7]])
+    block = np.array([[0.8, 1.5], [1.2, 1.5], [1.2, 1.9], [0.8, 1.9]])  # inside box a
+    res = simulate(m, pos, np.zeros(2), obstacles=[block])
+    assert res.steps > 0
+    assert not np.allclose(res.pos[0], pos[0])

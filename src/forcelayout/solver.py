@@ -24,11 +24,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
 from Box2D import b2ChainShape, b2PolygonShape, b2World
 
 from forcelayout.forces import ForceModel
 from forcelayout.geometry import RoomGeometry
 from forcelayout.options import SolverConfig
+from forcelayout.rules.base import State
 
 __all__ = ["SolverConfig", "SimulationResult", "simulate", "temperature"]
 
@@ -76,6 +78,8 @@ class SimulationResult:
 
 #: Box2D collision categories: the room's walls, furniture, walkable floor covers.
 _WALLS, _SOLID, _COVER = 0x0001, 0x0002, 0x0004
+#: Force (N) and torque (N m) below which a start counts as one nothing acts on (rounding).
+_STILL = 1e-9
 
 
 def _world(room: RoomGeometry, obstacles: list[np.ndarray] | None = None) -> b2World:
@@ -106,6 +110,26 @@ def _footprints(model: ForceModel) -> list[list[tuple[float, float]] | None]:
         else:
             out.append([(float(x), float(y)) for x, y in fp])
     return out
+
+
+def _at_rest(model: ForceModel, state: State, f: np.ndarray, tau: np.ndarray,
+             obstacles: list[np.ndarray] | None) -> bool:
+    """Whether no term acts on any object and every footprint lies inside the room, clear of
+    the obstacles.
+
+    Bodies then keep still: their velocities are set from the forces, and the
+    contact solver only moves footprints that overlap (the repulsion term,
+    zero here, acts before furniture touches).
+    """
+    if np.abs(f).max() > _STILL or np.abs(tau).max() > _STILL:
+        return False
+    if not model.room.contains(state.corners.reshape(-1, 2)).all():
+        return False
+    if not obstacles:
+        return True
+    bodies = shapely.polygons(state.corners)
+    walls = shapely.polygons([np.asarray(o, dtype=float) for o in obstacles])
+    return not (shapely.area(shapely.intersection(bodies[:, None], walls[None])) > 1e-9).any()
 
 
 def simulate(
@@ -179,6 +203,9 @@ def simulate(
             fs, ts = model.net(state, temperature(t, k), annealed=True)
         fp, tp = model.net(state, 1.0, annealed=False)
         f, tau = fs + fp, ts + tp
+        if t == 0 and _at_rest(model, state, f, tau, obstacles):
+            converged = True  # nothing acts and nothing overlaps: no step would move it
+            break
         if not all_moving:
             f, tau = f[mv], tau[mv]
         v = f * mob

@@ -79,6 +79,9 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
     # parent is: the parent's back is the side at a wall (a TV at the wall behind its stand)
     at_back = {b.object for b in bindings if b.target is None
                and b.rule.start is not None and b.rule.start.place == "wall"}
+    model = ForceModel(cp, kids, bindings=bindings, room=room, relations=relations)
+    edge = model.physical_weights.boundary_range + 1e-3  # starts beyond the terms' reach
+    apart = model.physical_weights.repulsion_range + 1e-3
     for r in range(len(kids)):
         best, best_gap = None, -np.inf
         back = kids[r] in at_back and size[r, 0] <= pw + 1e-9 and size[r, 1] <= pd + 1e-9
@@ -88,20 +91,23 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
                 else (size[r, 1], size[r, 0])
             if w > pw + 1e-9 or d > pd + 1e-9:
                 continue
-            p = rng.uniform([-(pw - w) / 2, -(pd - d) / 2], [(pw - w) / 2, (pd - d) / 2])
+            # clear of the edges by the walls' reach where the top allows (else centred):
+            # where the plane's simulation would push it
+            slack = np.array([pw - w, pd - d]) / 2
+            inner = slack - np.minimum(slack, edge)
+            p = rng.uniform(-inner, inner)
             if back:
                 p[1] = -(pd - d) / 2
             gap = _min_gap(np.vstack([pos[:r], p]), np.append(yaw[:r], y), size[: r + 1],
                            last_only=True)
             if gap > best_gap:
                 best, best_gap = (p, y), gap
-            if gap > 0.01:
+            if gap > apart:
                 break
         if best is None:
             out.missing.append(f"{kids[r]}: does not fit on top of {parent!r} in any orientation")
             return
         pos[r], yaw[r] = best
-    model = ForceModel(cp, kids, bindings=bindings, room=room, relations=relations)
     res = simulate(model, pos, yaw, plane_solver(cfg))
     out.steps += res.steps
     out.converged &= res.converged

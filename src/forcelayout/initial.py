@@ -281,9 +281,17 @@ def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius,
     if places & _SIDE_PLACES:
         wall = _back_wall(room, pos[q], yaw[q], half[q]) if "wall" in places else -1
         cand = pos[q] + rq * (side[:, None] * (half[q, 0] + half[r, 0] + gap))
-        if wall >= 0:
-            return _snap_to_wall(room, cand, half[r], np.full(k, wall))
-        return cand, same
+        if wall < 0:
+            return cand, same
+        on_wall = _snap_to_wall(room, cand, half[r], np.full(k, wall))
+        # or, for half the draws, against whichever wall is nearest beside the parent's
+        # side, towards its back (a nightstand at the side wall of a bed near a corner)
+        m = k // 2
+        back = -fq * rng.uniform(0.0, half[q, 1], (m, 1))
+        aside = pos[q] + rq * (side[:m, None] * (half[q, 0] + half[r, 1] + gap[:m])) + back
+        near_side = _snap_to_wall(room, aside, half[r])
+        return (np.concatenate([near_side[0], on_wall[0][m:]]),
+                np.concatenate([near_side[1], on_wall[1][m:]]))
     if "wall" in places and "face_target" in turns:  # across the room, on the wall it faces
         span = float(np.hypot(*(room.bounds[2:] - room.bounds[:2])))
         cand = pos[q] + fq * rng.uniform(1.0, span, (k, 1)) + rq * rng.normal(0.0, 0.3, (k, 1))
@@ -635,6 +643,7 @@ class _Placer:
         q = int(parent[r])
         cyaw = rng.uniform(-np.pi, np.pi, tries)
         corner = _corner_candidates(room, rng, tries, half[r]) if "corner" in places else None
+        loose = 0  # the first candidates, drawn with no wall kept free beside them
         opening = (room.windows if "window" in places and len(room.windows) else
                    room.doors if "door" in places and len(room.doors) else None)
         if corner is not None:
@@ -645,6 +654,11 @@ class _Placer:
         elif "wall" in places:
             near = opening.centre if opening is not None else None
             cand, cyaw = _wall_candidates(room, rng, tries, half[r], near, sides)
+            if self.either[r] and near is None:
+                # half the draws anywhere along a wall: the children that may stand on
+                # either side may also stand at another wall beside it (a bed near a corner)
+                loose = tries // 2
+                cand[:loose], cyaw[:loose] = _wall_candidates(room, rng, loose, half[r], None)
         elif opening is not None:
             cand = opening.centre[rng.integers(0, len(opening), tries)] \
                 + rng.normal(0.0, 0.6, (tries, 2))
@@ -702,6 +716,7 @@ class _Placer:
             unmet += 4.0 * (sep < -0.02).any(axis=1)
         score = np.where(inside0, clear0, -np.inf)
         roomy = inside & (clear >= _CLEAR)  # room along the wall for its side children
+        roomy[:loose] = score[:loose] >= _CLEAR
         fm = self.front_margin[r]
         if fm > 0:  # and in front of it for its front children (the chair at the desk)
             inside_f, clear_f = self._clearance(cand + fwd * (0.5 * fm), rgt, fwd,

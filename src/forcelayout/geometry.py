@@ -108,6 +108,12 @@ def corners_from_axes(pos: np.ndarray, right: np.ndarray, front: np.ndarray,
     return c
 
 
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Dot products of 2-vectors along the last axis: ``(a * b).sum(-1)``, bit for bit, without
+    a reduction (several times faster on the small arrays of the simulation loop)."""
+    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1]
+
+
 def point_segment_distance(
     p: np.ndarray, a: np.ndarray, b: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -127,11 +133,11 @@ def point_segment_distance(
     """
     ab = b - a
     ap = p - a
-    denom = np.maximum((ab * ab).sum(-1), 1e-18)
-    t = np.clip((ap * ab).sum(-1) / denom, 0.0, 1.0)
+    denom = np.maximum(_dot(ab, ab), 1e-18)
+    t = np.clip(_dot(ap, ab) / denom, 0.0, 1.0)
     closest = a + t[..., None] * ab
     d = p - closest
-    return np.sqrt((d * d).sum(-1)), closest
+    return np.sqrt(_dot(d, d)), closest
 
 
 def obb_separation(
@@ -161,13 +167,13 @@ def obb_separation(
     ndarray, shape (...)
         Signed clearance in metres (negative: overlap depth).
     """
-    c = np.abs((ra * rb).sum(-1))
-    s = np.abs((ra * fb).sum(-1))
+    c = np.abs(_dot(ra, rb))
+    s = np.abs(_dot(ra, fb))
     hax, hay, hbx, hby = ha[..., 0], ha[..., 1], hb[..., 0], hb[..., 1]
-    g1 = np.abs((d * ra).sum(-1)) - hax - (hbx * c + hby * s)
-    g2 = np.abs((d * fa).sum(-1)) - hay - (hbx * s + hby * c)
-    g3 = np.abs((d * rb).sum(-1)) - hbx - (hax * c + hay * s)
-    g4 = np.abs((d * fb).sum(-1)) - hby - (hax * s + hay * c)
+    g1 = np.abs(_dot(d, ra)) - hax - (hbx * c + hby * s)
+    g2 = np.abs(_dot(d, fa)) - hay - (hbx * s + hby * c)
+    g3 = np.abs(_dot(d, rb)) - hbx - (hax * c + hay * s)
+    g4 = np.abs(_dot(d, fb)) - hby - (hax * s + hay * c)
     return np.maximum(np.maximum(g1, g2), np.maximum(g3, g4))
 
 

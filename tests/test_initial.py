@@ -5,6 +5,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 
 import forcelayout as fl
+from forcelayout import rules
 from forcelayout.forces import ForceModel, RuleTerm
 from forcelayout.initial import initial_poses, parents, propose_poses, start_poses
 from forcelayout.testing import plans
@@ -146,3 +147,29 @@ def test_a_start_misses_a_rule_rather_than_block_a_window():
         pos, yaw, verdict = next(start_poses(model, np.random.default_rng(seed), misses=1))
         blocked += any(f.startswith("window") for f in verdict.failures)
     assert blocked <= 1
+
+
+def test_a_start_near_a_door_spreads_over_the_distance_the_rule_allows():
+    """A long counter within 2.5 m of a door in the corner: the swing square takes the wall
+    right beside the door, so only starts spread over the rule's distance meet it."""
+    plan = fl.Plan.from_dict({
+        "name": "door corner",
+        "room": {"polygon": [[0, 0], [6.2, 0], [6.2, 4.4], [0, 4.4]], "height": 2.6,
+                 "doors": [{"wall": 0, "offset": 5.6, "width": 0.9}]},
+        "objects": [{"id": "counter", "category": "counter", "size": [1.8, 0.6, 0.9]}],
+        "rules": [{"rule": "at_wall", "object": "counter"},
+                  {"rule": "near_door", "object": "counter", "params": {"distance": 2.5}}]})
+    model = ForceModel(plan)
+    met = [all(model.satisfied(model.state(*propose_poses(model, np.random.default_rng(s),
+                                                          tries=8))).values())
+           for s in range(40)]
+    assert np.mean(met) >= 0.9
+
+
+def test_a_start_reach_must_name_a_parameter_near_an_opening():
+    with pytest.raises(ValueError, match="reach"):
+        rules.StartHint(place="wall", reach="distance")
+    with pytest.raises(TypeError, match="radius"):
+        class Near(rules.Rule):
+            name = "near_door_test_reach"
+            start = rules.StartHint(place="door", reach="radius")

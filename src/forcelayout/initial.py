@@ -47,6 +47,7 @@ class _Wants:
     turns: set[str] = field(default_factory=set)
     related: set[int] = field(default_factory=set)  # every target row
     wall_above: float = 0.0  # width of the widest object hanging on the wall above this one
+    reach: float = 0.0  # how far from the opening its rules let its centre be, metres (0: unsaid)
 
 
 def parents(model: ForceModel) -> np.ndarray:
@@ -111,7 +112,7 @@ def _wants(model: ForceModel) -> list[_Wants]:
     for g in model.groups:
         hint = g.rule.start
         js = g.j.tolist() if g.j is not None else [-1] * len(g.i)
-        for i, j in zip(g.i.tolist(), js, strict=True):
+        for b, (i, j) in enumerate(zip(g.i.tolist(), js, strict=True)):
             w = out[i]
             if j >= 0:
                 w.related.add(j)
@@ -121,6 +122,8 @@ def _wants(model: ForceModel) -> list[_Wants]:
                 w.places.add(hint.place)
             if hint.turn is not None:
                 w.turns.add(hint.turn)
+            if hint.reach is not None:
+                w.reach = max(w.reach, float(g.params._fields[hint.reach][b]))
     row = {oid: k for k, oid in enumerate(model.ids)}
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
@@ -186,7 +189,7 @@ def _snap_to_wall(
         walls = np.argmin(np.abs(s) + beyond + (room.length < 2 * half[0]) * 100.0, axis=1)
     n, tan = room.normal[walls], room.tangent[walls]
     along = (cand * tan).sum(1) - room.tangent_offset[walls]
-    lo = np.minimum(half[0], room.length[walls] * 0.5)
+    lo = np.minimum(half[0] + 0.01, room.length[walls] * 0.5)  # clear of the wall at its end
     along = np.clip(along, lo, room.length[walls] - lo)
     pos = room.a[walls] + tan * along[:, None] + n * (half[1] + 0.01)
     return pos, _yaw_facing(n)
@@ -200,17 +203,16 @@ def _wall_candidates(
     near: np.ndarray | None,
     sides: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """``k`` poses with the back against a random wall (near ``near`` points if given).
+    """``k`` poses with the back against a random wall (or the wall nearest each of the
+    ``near`` points, (k, 2), if given).
 
     ``sides`` (metres to keep free on the left and the right, see
     :func:`_side_room`) asks for walls long enough for the object and the
     children standing beside it; the room both sides share is left free at
     either end of the wall.
     """
-    if near is not None and len(near):
-        pick = near[rng.integers(0, len(near), k)]
-        cand = pick + rng.normal(0.0, 0.6, (k, 2))
-        return _snap_to_wall(room, cand, half)
+    if near is not None:
+        return _snap_to_wall(room, near, half)
     left, right = (0.0, 0.0) if sides is None else (float(sides[0]), float(sides[1]))
     ok = room.length >= 2 * half[0] + left + right + 0.02
     end = half[0] + 0.01  # the centre's distance from either end of the wall
@@ -226,6 +228,18 @@ def _wall_candidates(
     along = end + rng.uniform(0.0, 1.0, k) * slack
     cand = room.a[walls] + room.tangent[walls] * along[:, None]
     return _snap_to_wall(room, cand, half, walls)
+
+
+def _near_opening(rng: np.random.Generator, k: int, centre: np.ndarray, reach: float
+                  ) -> np.ndarray:
+    """``k`` points near random openings of ``centre`` (M, 2): spread evenly over the disc
+    of radius ``reach`` where the rules say how far the object may be, else close around."""
+    pick = centre[rng.integers(0, len(centre), k)]
+    if reach <= 0:
+        return pick + rng.normal(0.0, 0.6, (k, 2))
+    r = reach * np.sqrt(rng.uniform(0.0, 1.0, k))
+    a = rng.uniform(-np.pi, np.pi, k)
+    return pick + r[:, None] * np.stack([np.cos(a), np.sin(a)], axis=1)
 
 
 def _corner_candidates(
@@ -652,7 +666,8 @@ class _Placer:
             cand, cyaw = _child_candidates(room, rng, tries, w, q, r, pos, yaw, half,
                                            radius, spread)
         elif "wall" in places:
-            near = opening.centre if opening is not None else None
+            near = None if opening is None else _near_opening(rng, tries, opening.centre,
+                                                              w.reach)
             cand, cyaw = _wall_candidates(room, rng, tries, half[r], near, sides)
             if self.either[r] and near is None:
                 # half the draws anywhere along a wall: the children that may stand on
@@ -660,8 +675,7 @@ class _Placer:
                 loose = tries // 2
                 cand[:loose], cyaw[:loose] = _wall_candidates(room, rng, loose, half[r], None)
         elif opening is not None:
-            cand = opening.centre[rng.integers(0, len(opening), tries)] \
-                + rng.normal(0.0, 0.6, (tries, 2))
+            cand = _near_opening(rng, tries, opening.centre, w.reach)
         elif "middle" in places:
             cand = room.centroid + rng.normal(0.0, 0.3, (tries, 2))
         else:

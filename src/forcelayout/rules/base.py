@@ -74,12 +74,18 @@ class StartHint:
     clear_wall_above_target : bool
         The rule hangs its object on the wall above the target (a picture
         above a bed): the target starts where that wall has no door or window.
+    reach : str, optional
+        With ``place="window"`` or ``"door"``: the name of the rule's parameter
+        that bounds, in metres, how far the object's centre may be from the
+        opening's centre (``"distance"`` for ``near_door``). Start candidates
+        then spread evenly over that disc, not only close around the opening.
     """
 
     place: str | None = None
     turn: str | None = None
     parent: int | None = None
     clear_wall_above_target: bool = False
+    reach: str | None = None
 
     PLACES: ClassVar[frozenset[str]] = frozenset(
         {"wall", "corner", "middle", "window", "door", "beside", "left", "right", "front",
@@ -91,6 +97,9 @@ class StartHint:
             raise ValueError(f"StartHint.place {self.place!r} is not one of {sorted(self.PLACES)}")
         if self.turn is not None and self.turn not in self.TURNS:
             raise ValueError(f"StartHint.turn {self.turn!r} is not one of {sorted(self.TURNS)}")
+        if self.reach is not None and self.place not in ("window", "door"):
+            raise ValueError("StartHint.reach bounds a start near an opening: give it with "
+                             f"place='window' or 'door', not place={self.place!r}")
 
 
 @dataclass(frozen=True)
@@ -465,6 +474,11 @@ class Rule:
                             "needs target = 'required' (the object it rests on)")
         if cls.start is not None and not isinstance(cls.start, StartHint):
             raise TypeError(f"{cls.__qualname__}.start must be a StartHint or None")
+        reach = cls.start.reach if cls.start is not None else None
+        if reach is not None and reach not in cls.Params.model_fields:
+            raise TypeError(f"{cls.__qualname__}.start.reach names {reach!r}, which is not a "
+                            f"parameter of the rule (its Params: "
+                            f"{sorted(cls.Params.model_fields)})")
         if cls.access is not None and not isinstance(cls.access, Access):
             raise TypeError(f"{cls.__qualname__}.access must be an Access or None")
         if cls.closeness not in (None, "close", "far"):

@@ -250,7 +250,7 @@ class NearWindow(_NearOpening):
     specialises = ("near", "next_to", "facing")
 
     _openings = "windows"
-    start = StartHint(place="window")
+    start = StartHint(place="window", reach="distance")
 
 
 class NearDoor(_NearOpening):
@@ -266,7 +266,7 @@ class NearDoor(_NearOpening):
     specialises = ("near", "next_to")
 
     _openings = "doors"
-    start = StartHint(place="door")
+    start = StartHint(place="door", reach="distance")
 
 
 class AwayFromDoor(Rule):

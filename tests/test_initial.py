@@ -167,9 +167,22 @@ def test_a_start_near_a_door_spreads_over_the_distance_the_rule_allows():
 
 
 def test_a_start_reach_must_name_a_parameter_near_an_opening():
-    with pytest.raises(ValueError, match="reach"):
+    with pytest.raises(ValueError, match="reach"):  # only near an opening or the middle
         rules.StartHint(place="wall", reach="distance")
     with pytest.raises(TypeError, match="radius"):
         class Near(rules.Rule):
             name = "near_door_test_reach"
             start = rules.StartHint(place="door", reach="radius")
+
+
+def test_a_start_in_the_middle_spreads_over_the_share_the_rule_allows():
+    plan = fl.Plan.from_dict({
+        "name": "middle",
+        "room": {"polygon": [[0, 0], [6, 0], [6, 5], [0, 5]], "height": 2.6},
+        "objects": [{"id": "table", "category": "table", "size": [0.6, 0.6, 0.7]}],
+        "rules": [{"rule": "in_middle", "object": "table", "params": {"fraction": 0.3}}]})
+    model = ForceModel(plan)
+    pos = np.array([propose_poses(model, np.random.default_rng(s))[0][0] for s in range(60)])
+    off = np.abs(pos - [3.0, 2.5]) / [6.0, 5.0]
+    assert (off <= 0.3 + 1e-9).all()
+    assert off.max(axis=0).min() > 0.2  # not bunched around the centroid

@@ -47,7 +47,7 @@ class _Wants:
     turns: set[str] = field(default_factory=set)
     related: set[int] = field(default_factory=set)  # every target row
     wall_above: float = 0.0  # width of the widest object hanging on the wall above this one
-    reach: float = 0.0  # how far from the opening its rules let its centre be, metres (0: unsaid)
+    reach: float = 0.0  # how far from its start place its rules let it be (0: unsaid)
 
 
 def parents(model: ForceModel) -> np.ndarray:
@@ -123,7 +123,7 @@ def _wants(model: ForceModel) -> list[_Wants]:
             if hint.turn is not None:
                 w.turns.add(hint.turn)
             if hint.reach is not None:
-                w.reach = max(w.reach, float(g.params._fields[hint.reach][b]))
+                w.reach = max(w.reach, float(getattr(g.params, hint.reach)[b]))
     row = {oid: k for k, oid in enumerate(model.ids)}
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
@@ -509,18 +509,18 @@ def propose_poses(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Random start poses inside the room that already lean towards the rules.
 
-    Objects are placed parents first. Each draws ``tries`` candidate poses
-    at once from a proposal chosen by its rules — a child around its parent
-    (at most ``spread`` metres beyond touching), an ``in_corner`` object in a
-    random convex corner, an ``at_wall`` object against a random wall (near
-    the window or door if it should be), an ``in_middle`` object near the
-    centroid, anything else uniformly in the room; objects that should stand
-    at a wall are turned with their backs to it, objects that face a target
-    are turned towards it. The first candidate whose footprint lies inside
-    the floor, clear of the objects placed so far and of the door swing
-    squares is kept (else the one with the most clearance), so the start is
-    random — which wall, which corner, where along it — but close to a valid
-    arrangement. Nothing loops beyond ``tries`` draws per object.
+    Objects are placed parents first. Each draws ``tries`` candidate poses at
+    once from a proposal chosen by its rules — a child around its parent (at
+    most ``spread`` metres beyond touching), an ``in_corner`` object in a random
+    convex corner, an ``at_wall`` object against a random wall (near the window
+    or door if it should be), an ``in_middle`` object around the centroid (over
+    the share of the room its rule allows), anything else uniformly in the room;
+    objects that should stand at a wall are turned with their backs to it,
+    objects that face a target are turned towards it. The first candidate whose
+    footprint lies inside the floor, clear of the objects placed so far and of
+    the door swing squares is kept (else the one with the most clearance), so
+    the start is random — which wall, which corner, where along it — but close
+    to a valid arrangement. Nothing loops beyond ``tries`` draws per object.
 
     Returns
     -------
@@ -593,10 +593,14 @@ class _Placer:
         self.sides, self.either = _side_room(model, parent, wants)
         # floor to keep free in front of a parent for children standing in front of it
         front = np.zeros(n)
+        # and on every side of it for its children all round (the chairs at a table)
+        around = np.zeros(n)
         for c in range(n):
             if parent[c] >= 0 and "front" in wants[c].places:
                 front[parent[c]] = max(front[parent[c]], model.size[c, 1] + 0.15)
-        self.front_margin = front
+            if parent[c] >= 0 and "around" in wants[c].places:
+                around[parent[c]] = max(around[parent[c]], model.size[c, 1] + _GAP[0])
+        self.front_margin, self.around_margin = front, around
         self.lo, self.hi = room.bounds[:2], room.bounds[2:]
         self.floor = room.shape
         shapely.prepare(self.floor)
@@ -677,7 +681,11 @@ class _Placer:
         elif opening is not None:
             cand = _near_opening(rng, tries, opening.centre, w.reach)
         elif "middle" in places:
-            cand = room.centroid + rng.normal(0.0, 0.3, (tries, 2))
+            if w.reach > 0:  # evenly over the share of the room's extent its rules allow
+                ext = w.reach * (room.bounds[2:] - room.bounds[:2])
+                cand = room.centroid + rng.uniform(-ext, ext, (tries, 2))
+            else:
+                cand = room.centroid + rng.normal(0.0, 0.3, (tries, 2))
         else:
             cand = rng.uniform(lo, hi, (tries, 2))
         # beside the placed objects it should stand beside other than its parent
@@ -737,6 +745,11 @@ class _Placer:
                                                 half[r] + np.array([0.0, 0.5 * fm]), solid,
                                                 slack, pos, yaw, not walkable[r])
             roomy &= inside_f & (clear_f >= _CLEAR)
+        am = self.around_margin[r]
+        if am > 0:
+            inside_a, clear_a = self._clearance(cand, rgt, fwd, half[r] + am, solid, slack, pos,
+                                                yaw, not walkable[r])
+            roomy &= inside_a & (clear_a >= _CLEAR)
         # first clear candidate meeting the most of the rules it can be judged by and
         # leaving room for its children (as much as one rule); else the most clearance
         rank = np.where(score >= _CLEAR, 20.0 - 2.0 * unmet + 2.0 * roomy,

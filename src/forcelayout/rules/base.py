@@ -63,6 +63,7 @@ class StartHint:
         ``"window"`` / ``"door"`` (near an opening; with ``"wall"``, on a
         wall near it). Relative to the target: ``"beside"`` (either side),
         ``"left"``, ``"right"``, ``"front"``, ``"back"`` (its side of the target),
+        ``"around"`` (any side: the target keeps room on every side for it),
         ``"beneath"`` (centred under the target: a walkable cover).
     turn : str, optional
         ``"face_target"`` turns the object's front towards its target;
@@ -75,10 +76,13 @@ class StartHint:
         The rule hangs its object on the wall above the target (a picture
         above a bed): the target starts where that wall has no door or window.
     reach : str, optional
-        With ``place="window"`` or ``"door"``: the name of the rule's parameter
-        that bounds, in metres, how far the object's centre may be from the
-        opening's centre (``"distance"`` for ``near_door``). Start candidates
-        then spread evenly over that disc, not only close around the opening.
+        The name of the rule's parameter that bounds how far from where it
+        starts the object's centre may be; start candidates then spread
+        evenly over that region, not only close around its middle. With
+        ``place="window"`` or ``"door"``: metres from the opening's centre
+        (``"distance"`` of ``near_door``); with ``place="middle"``: a fraction
+        of the room's extent from the centroid, per axis (``"fraction"`` of
+        ``in_middle``).
     """
 
     place: str | None = None
@@ -89,7 +93,7 @@ class StartHint:
 
     PLACES: ClassVar[frozenset[str]] = frozenset(
         {"wall", "corner", "middle", "window", "door", "beside", "left", "right", "front",
-         "back", "beneath"})
+         "back", "around", "beneath"})
     TURNS: ClassVar[frozenset[str]] = frozenset({"face_target", "target_heading"})
 
     def __post_init__(self) -> None:
@@ -97,9 +101,10 @@ class StartHint:
             raise ValueError(f"StartHint.place {self.place!r} is not one of {sorted(self.PLACES)}")
         if self.turn is not None and self.turn not in self.TURNS:
             raise ValueError(f"StartHint.turn {self.turn!r} is not one of {sorted(self.TURNS)}")
-        if self.reach is not None and self.place not in ("window", "door"):
-            raise ValueError("StartHint.reach bounds a start near an opening: give it with "
-                             f"place='window' or 'door', not place={self.place!r}")
+        if self.reach is not None and self.place not in ("window", "door", "middle"):
+            raise ValueError("StartHint.reach bounds a start near an opening or the middle: "
+                             "give it with place='window', 'door' or 'middle', not "
+                             f"place={self.place!r}")
 
 
 @dataclass(frozen=True)

@@ -407,7 +407,7 @@ class Around(Rule):
 
     target = "required"
     bond = True
-    start = StartHint(turn="face_target", parent=1)
+    start = StartHint(place="around", turn="face_target", parent=1)
     weight = 2.0
 
     class Params(Rule.Params):

@@ -177,7 +177,7 @@ class InMiddle(Rule):
     aliases = ("center", "centre", "in_center", "in_centre", "middle")
 
     relation = True
-    start = StartHint(place="middle")
+    start = StartHint(place="middle", reach="fraction")
     weight = 2.0
 
     class Params(Rule.Params):

@@ -56,11 +56,11 @@ if TYPE_CHECKING:
 __all__ = ["random_layout", "rule_aware_layout", "rejection_sample", "RejectionResult"]
 
 #: Start places relative to the room (see StartHint.place); the others are relative to the
-#: target: a side of it, all around it (``around``, as for no place), or (a place that names
+#: target: a side of it, all round it (``all_round``, as for no place), or (a place that names
 #: no side, such as a rug's) centred on it.
 _ROOM_PLACES = frozenset({"wall", "corner", "middle", "window", "door"})
 _SIDE_PLACES = frozenset({"beside", "left", "right", "front", "back"})
-_TARGET_PLACES = StartHint.PLACES - _ROOM_PLACES - {"around"}
+_TARGET_PLACES = StartHint.PLACES - _ROOM_PLACES - {"all_round"}
 #: Gap a wall-snapped footprint keeps from its wall, metres (the at_wall check allows 0.05).
 _WALL_GAP = 0.005
 

@@ -598,7 +598,7 @@ class _Placer:
         for c in range(n):
             if parent[c] >= 0 and "front" in wants[c].places:
                 front[parent[c]] = max(front[parent[c]], model.size[c, 1] + 0.15)
-            if parent[c] >= 0 and "around" in wants[c].places:
+            if parent[c] >= 0 and "all_round" in wants[c].places:
                 around[parent[c]] = max(around[parent[c]], model.size[c, 1] + _GAP[0])
         self.front_margin, self.around_margin = front, around
         self.lo, self.hi = room.bounds[:2], room.bounds[2:]

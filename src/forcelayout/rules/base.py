@@ -63,7 +63,7 @@ class StartHint:
         ``"window"`` / ``"door"`` (near an opening; with ``"wall"``, on a
         wall near it). Relative to the target: ``"beside"`` (either side),
         ``"left"``, ``"right"``, ``"front"``, ``"back"`` (its side of the target),
-        ``"around"`` (any side: the target keeps room on every side for it),
+        ``"all_round"`` (any side: the target keeps room on every side for it),
         ``"beneath"`` (centred under the target: a walkable cover).
     turn : str, optional
         ``"face_target"`` turns the object's front towards its target;
@@ -93,7 +93,7 @@ class StartHint:
 
     PLACES: ClassVar[frozenset[str]] = frozenset(
         {"wall", "corner", "middle", "window", "door", "beside", "left", "right", "front",
-         "back", "around", "beneath"})
+         "back", "all_round", "beneath"})
     TURNS: ClassVar[frozenset[str]] = frozenset({"face_target", "target_heading"})
 
     def __post_init__(self) -> None:

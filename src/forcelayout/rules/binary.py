@@ -407,7 +407,7 @@ class Around(Rule):
 
     target = "required"
     bond = True
-    start = StartHint(place="around", turn="face_target", parent=1)
+    start = StartHint(place="all_round", turn="face_target", parent=1)
     weight = 2.0
 
     class Params(Rule.Params):

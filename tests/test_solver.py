@@ -131,6 +131,9 @@ def test_a_start_overlapping_an_obstacle_is_simulated():
     m = ForceModel(two_boxes())
     pos = np.array([[1.0, 1.7], [3.0, 1.7]])
     block = np.array([[0.8, 1.5], [1.2, 1.5], [1.2, 1.9], [0.8, 1.9]])  # inside box a
-    res = simulate(m, pos, np.zeros(2), obstacles=[block])
+    corner = np.array([[3.5, 3.0], [4.0, 3.0], [4.0, 3.5]])  # clear of both
+    res = simulate(m, pos, np.zeros(2), obstacles=[corner])
+    assert res.steps == 0
+    res = simulate(m, pos, np.zeros(2), obstacles=[block, corner])
     assert res.steps > 0
     assert not np.allclose(res.pos[0], pos[0])

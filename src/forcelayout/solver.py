@@ -128,7 +128,7 @@ def _at_rest(model: ForceModel, state: State, f: np.ndarray, tau: np.ndarray,
     if not obstacles:
         return True
     bodies = shapely.polygons(state.corners)
-    walls = shapely.polygons([np.asarray(o, dtype=float) for o in obstacles])
+    walls = np.array([shapely.Polygon(np.asarray(o, dtype=float)) for o in obstacles])
     return not (shapely.area(shapely.intersection(bodies[:, None], walls[None])) > 1e-9).any()
 
 

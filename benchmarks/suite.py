@@ -58,6 +58,8 @@ GOOD_RULES = 0.95
 #: Targets (robustness issue): yield on every solvable plan, mean yield, diversity ratio,
 #: speed ratio over the suite, and the plan size from which speed is compared per plan.
 YIELD_EACH, YIELD_MEAN, DIVERSITY_RATIO, SPEED_SUITE, SPEED_MIN_OBJECTS = 0.90, 0.95, 0.95, 3.0, 10
+#: Baseline layouts below which the markdown flags a plan's baseline diversity as a rough figure.
+FEW_LAYOUTS = 10
 
 
 # -- one plan -----------------------------------------------------------------------------
@@ -284,15 +286,25 @@ def _mark(v: bool | None) -> str:
     return "–" if v is None else ("pass" if v else "FAIL")
 
 
+def _diversity_count(rows: list[dict[str, Any]]) -> str:
+    """How many plans pass the diversity target, and on how few baseline layouts the failures'
+    baseline figures rest (a mean over 3 layouts is a rough estimate)."""
+    judged = [r for r in rows if "error" not in r and r["targets"]["diversity"] is not None]
+    failed = [r for r in judged if not r["targets"]["diversity"]]
+    thin = sum(r["baseline"]["accepted"] < FEW_LAYOUTS for r in failed)
+    return (f"{len(judged) - len(failed)} of {len(judged)} plans; of the {len(failed)} below, "
+            f"{thin} against fewer than {FEW_LAYOUTS} baseline layouts")
+
+
 def markdown(result: dict[str, Any]) -> str:
     head = ("| plan | objects | fill % | good % FL | good % BL | good/s FL | good/s BL "
-            "| geo FL | geo BL | topo FL | topo BL | repaired % | yield | ≥ BL | diversity "
-            "| speed |")
+            "| geo FL | geo BL | topo FL | topo BL | BL layouts | repaired % | yield | ≥ BL "
+            "| diversity | speed |")
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for r in result["plans"]:
         if "error" in r:
             err = " ".join(r["error"].split()).replace("|", "/")
-            lines.append(f"| {r['plan']} | error: {err[:100]} |" + " |" * 14)
+            lines.append(f"| {r['plan']} | error: {err[:100]} |" + " |" * 15)
             continue
         f, b, t = r["forcelayout"], r["baseline"], r["targets"]
         lines.append(
@@ -301,7 +313,7 @@ def markdown(result: dict[str, Any]) -> str:
             f"| {_num(f['good_per_s'])} | {_num(b['good_per_s'])} "
             f"| {_num(f['geometric'], 3)} | {_num(b['geometric'], 3)} "
             f"| {_num(f['topological'], 3)} | {_num(b['topological'], 3)} "
-            f"| {_num(f['repaired_pct'], 0)} | {_mark(t['yield'])} "
+            f"| {b['accepted']} | {_num(f['repaired_pct'], 0)} | {_mark(t['yield'])} "
             f"| {_mark(t['not_below_baseline'])} | {_mark(t['diversity'])} "
             f"| {_mark(t['speed'])} |")
     o = result["overall"]
@@ -312,7 +324,7 @@ def markdown(result: dict[str, Any]) -> str:
         f"| {_num(fo['good_per_s'])} | {_num(bo['good_per_s'])} "
         f"| {_num(fo['geometric'], 3)} | {_num(bo['geometric'], 3)} "
         f"| {_num(fo['topological'], 3)} | {_num(bo['topological'], 3)} "
-        f"| {_num(fo['repaired_pct'], 0)} | {_mark(to['yield_each'])} "
+        f"| | {_num(fo['repaired_pct'], 0)} | {_mark(to['yield_each'])} "
         f"| {_mark(to['not_below_baseline'])} | {_mark(to['diversity'])} "
         f"| {_mark(to['speed_each'])} |")
     lines += [
@@ -324,7 +336,7 @@ def markdown(result: dict[str, Any]) -> str:
         f"({_num(fo['yield_pct_solvable'])} %): {_mark(to['yield_mean'])}",
         f"- never below the baseline's yield: {_mark(to['not_below_baseline'])}",
         f"- diversity ≥ {DIVERSITY_RATIO} × the baseline's on every plan: "
-        f"{_mark(to['diversity'])}",
+        f"{_mark(to['diversity'])} ({_diversity_count(result['plans'])})",
         f"- good/s ≥ the baseline's on every plan of ≥ {SPEED_MIN_OBJECTS} objects: "
         f"{_mark(to['speed_each'])}; ≥ {SPEED_SUITE:g} × over the suite "
         f"({_num(o['speed_ratio'], 2)} ×): {_mark(to['speed_suite'])}",

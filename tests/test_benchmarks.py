@@ -97,6 +97,7 @@ def test_suite_quick(tmp_path: Path) -> None:
     assert set(o["targets"]) == {"yield_each", "yield_mean", "not_below_baseline",
                                  "diversity", "speed_each", "speed_suite"}
     assert "| bedroom | 11 |" in rest and "| **overall** |" in rest and "Targets" in rest
+    assert "| BL layouts |" in rest and "baseline layouts)" in rest  # what diversity rests on
     assert json.loads(out.read_text()) == result
 
 

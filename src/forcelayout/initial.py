@@ -297,15 +297,16 @@ def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius,
         cand = pos[q] + rq * (side[:, None] * (half[q, 0] + half[r, 0] + gap))
         if wall < 0:
             return cand, same
-        on_wall = _snap_to_wall(room, cand, half[r], np.full(k, wall))
-        # or, for half the draws, against whichever wall is nearest beside the parent's
-        # side, towards its back (a nightstand at the side wall of a bed near a corner)
+        # half the draws on the parent's wall; the other half against whichever wall is
+        # nearest beside the parent's side, towards its back (a nightstand at the side
+        # wall of a bed near a corner)
         m = k // 2
+        on_wall = _snap_to_wall(room, cand[m:], half[r], np.full(k - m, wall))
         back = -fq * rng.uniform(0.0, half[q, 1], (m, 1))
         aside = pos[q] + rq * (side[:m, None] * (half[q, 0] + half[r, 1] + gap[:m])) + back
         near_side = _snap_to_wall(room, aside, half[r])
-        return (np.concatenate([near_side[0], on_wall[0][m:]]),
-                np.concatenate([near_side[1], on_wall[1][m:]]))
+        return (np.concatenate([near_side[0], on_wall[0]]),
+                np.concatenate([near_side[1], on_wall[1]]))
     if "wall" in places and "face_target" in turns:  # across the room, on the wall it faces
         span = float(np.hypot(*(room.bounds[2:] - room.bounds[:2])))
         cand = pos[q] + fq * rng.uniform(1.0, span, (k, 1)) + rq * rng.normal(0.0, 0.3, (k, 1))
@@ -712,17 +713,20 @@ class _Placer:
         # footprint alone; walkable covers are no obstacle (furniture stands on them)
         solid = [] if walkable[r] else [p for p in placed if not walkable[p]]
         slack = np.array([0.045 if p in w.related else 0.0 for p in solid])
-        inside0, clear0 = self._clearance(cand, rgt, fwd, half[r], solid, slack, pos, yaw,
-                                          not walkable[r])
+
+        def clearance(centres: np.ndarray, ext: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            # footprints of half extent ext at the centres, turned as the candidates are
+            return self._clearance(centres, rgt, fwd, ext, solid, slack, pos, yaw,
+                                   not walkable[r])
+
+        inside0, clear0 = clearance(cand, half[r])
         inside, clear = inside0, clear0
         if sides.max() > 0:  # the footprint widened by the wall its side children need
             left, right = sides
             ext = half[r] + np.array([0.5 * (left + right), 0.0])
-            inside, clear = self._clearance(cand + rgt * (0.5 * (right - left)), rgt, fwd, ext,
-                                            solid, slack, pos, yaw, not walkable[r])
+            inside, clear = clearance(cand + rgt * (0.5 * (right - left)), ext)
             if self.either[r]:  # a child that may stand on either side: or mirrored
-                i2, c2 = self._clearance(cand + rgt * (0.5 * (left - right)), rgt, fwd, ext,
-                                         solid, slack, pos, yaw, not walkable[r])
+                i2, c2 = clearance(cand + rgt * (0.5 * (left - right)), ext)
                 better = i2 & (c2 > np.where(inside, clear, -np.inf))
                 inside, clear = inside | i2, np.where(better, c2, clear)
         unmet = _unmet(room, w, cand, fwd, rgt, half[r])
@@ -741,14 +745,12 @@ class _Placer:
         roomy[:loose] = score[:loose] >= _CLEAR
         fm = self.front_margin[r]
         if fm > 0:  # and in front of it for its front children (the chair at the desk)
-            inside_f, clear_f = self._clearance(cand + fwd * (0.5 * fm), rgt, fwd,
-                                                half[r] + np.array([0.0, 0.5 * fm]), solid,
-                                                slack, pos, yaw, not walkable[r])
+            inside_f, clear_f = clearance(cand + fwd * (0.5 * fm),
+                                          half[r] + np.array([0.0, 0.5 * fm]))
             roomy &= inside_f & (clear_f >= _CLEAR)
         am = self.around_margin[r]
-        if am > 0:
-            inside_a, clear_a = self._clearance(cand, rgt, fwd, half[r] + am, solid, slack, pos,
-                                                yaw, not walkable[r])
+        if am > 0:  # and all round it for its children there (the chairs at a table)
+            inside_a, clear_a = clearance(cand, half[r] + am)
             roomy &= inside_a & (clear_a >= _CLEAR)
         # first clear candidate meeting the most of the rules it can be judged by and
         # leaving room for its children (as much as one rule); else the most clearance

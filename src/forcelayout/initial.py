@@ -84,18 +84,29 @@ def _reaches(parent: np.ndarray, start: int, goal: int) -> bool:
     return False
 
 
-def _order(parent: np.ndarray, area: np.ndarray) -> list[int]:
-    """Largest roots first, each followed at once by its descendants (largest first).
+def _order(parent: np.ndarray, area: np.ndarray, walkable: np.ndarray) -> list[int]:
+    """Largest groups first, each root followed at once by its descendants (largest first).
 
+    A group is as large as the largest object in it that takes floor (a rug
+    under a table takes none): a small TV stand that a sofa faces is placed
+    when the sofa's size says, not after every cabinet.
     Children come right after their parent, so the room kept free beside a
     parent is taken by its children before any unrelated object can take it.
     """
     n = parent.shape[0]
     kids: dict[int, list[int]] = {}
+    taken = np.where(walkable, 0.0, area)
+    big = taken.copy()  # largest footprint in each subtree
     for r in range(n):
         kids.setdefault(int(parent[r]), []).append(r)
+        up = int(parent[r])
+        for _ in range(n):  # parents() never forms a cycle; bounded all the same
+            if up < 0:
+                break
+            big[up] = max(big[up], taken[r])
+            up = int(parent[up])
     for v in kids.values():
-        v.sort(key=lambda r: (-area[r], r))
+        v.sort(key=lambda r: (-big[r], -area[r], r))
     out: list[int] = []
     stack = list(reversed(kids.get(-1, [])))
     while stack and len(out) < n:
@@ -148,11 +159,14 @@ def _side_room(model: ForceModel, parent: np.ndarray, wants: list[_Wants]
     -------
     sides : ndarray, shape (N, 2)
         Metres to keep free on the left (local -x) and the right (local +x).
+    count : ndarray, shape (N, 2)
+        How many children stand on each side.
     either : ndarray of bool, shape (N,)
         Whether the sides may be swapped (some child may stand on either side).
     """
     n = model.n
     sides = np.zeros((n, 2))
+    count = np.zeros((n, 2))
     either = np.zeros(n, dtype=bool)
     free: dict[int, list[int]] = {}
     for c in range(n):
@@ -162,15 +176,19 @@ def _side_room(model: ForceModel, parent: np.ndarray, wants: list[_Wants]
         need = float(model.size[c, 0]) + _BESIDE
         if "left" in places:
             sides[q, 0] += need
+            count[q, 0] += 1
         elif "right" in places:
             sides[q, 1] += need
+            count[q, 1] += 1
         else:
             free.setdefault(q, []).append(c)
     for q, kids in free.items():
         either[q] = True
         for c in sorted(kids, key=lambda c: (-model.size[c, 0], c)):
-            sides[q, int(sides[q, 1] < sides[q, 0])] += float(model.size[c, 0]) + _BESIDE
-    return sides, either
+            k = int(sides[q, 1] < sides[q, 0])
+            sides[q, k] += float(model.size[c, 0]) + _BESIDE
+            count[q, k] += 1
+    return sides, count, either
 
 
 def _yaw_facing(direction: np.ndarray) -> np.ndarray:
@@ -299,14 +317,24 @@ def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius,
             return cand, same
         # half the draws on the parent's wall; the other half against whichever wall is
         # nearest beside the parent's side, towards its back (a nightstand at the side
-        # wall of a bed near a corner)
+        # wall of a bed near a corner); every other one of those, where a wall runs right
+        # past that side, just past the parent's front edge on it (a fridge round the
+        # corner from a counter that fills its corner)
         m = k // 2
         on_wall = _snap_to_wall(room, cand[m:], half[r], np.full(k - m, wall))
-        back = -fq * rng.uniform(0.0, half[q, 1], (m, 1))
-        aside = pos[q] + rq * (side[:m, None] * (half[q, 0] + half[r, 1] + gap[:m])) + back
-        near_side = _snap_to_wall(room, aside, half[r])
-        return (np.concatenate([near_side[0], on_wall[0]]),
-                np.concatenate([near_side[1], on_wall[1]]))
+        out = pos[q] + rq * (side[:m, None] * (half[q, 0] + half[r, 1] + gap[:m]))
+        near_side = _snap_to_wall(room, out - fq * rng.uniform(0.0, half[q, 1], (m, 1)), half[r])
+        past = out + fq * (half[q, 1] + half[r, 0] + gap[:m])
+        round_corner = _snap_to_wall(room, past, half[r])
+        moved = round_corner[0] - past  # onto a wall across that side, facing the parent
+        facing = _yaw_facing(-side[:m, None] * rq[None])
+        use = ((np.arange(m) % 2 == 1) & (np.abs(np.sin(round_corner[1] - facing)) < 0.1)
+               & (np.cos(round_corner[1] - facing) > 0)
+               & (np.hypot(*moved.T) <= 2.0 * half[r, 1] + _BESIDE + _GAP[1]))
+        # round the corner last: the first of equally good candidates is taken, and a
+        # child at its parent's side is the usual arrangement (two beds share a nightstand)
+        return (np.concatenate([near_side[0][~use], on_wall[0], round_corner[0][use]]),
+                np.concatenate([near_side[1][~use], on_wall[1], round_corner[1][use]]))
     if "wall" in places and "face_target" in turns:  # across the room, on the wall it faces
         span = float(np.hypot(*(room.bounds[2:] - room.bounds[:2])))
         cand = pos[q] + fq * rng.uniform(1.0, span, (k, 1)) + rq * rng.normal(0.0, 0.3, (k, 1))
@@ -590,18 +618,21 @@ class _Placer:
         self.walkable = model.walkable
         self.by_object = _bindings_of(model)
         self.window = next((t for t in model.terms if isinstance(t, WindowTerm)), None)
-        self.order = _order(parent, model.size[:, 0] * model.size[:, 1])
-        self.sides, self.either = _side_room(model, parent, wants)
+        self.order = _order(parent, model.size[:, 0] * model.size[:, 1], model.walkable)
+        self.sides, self.side_count, self.either = _side_room(model, parent, wants)
         # floor to keep free in front of a parent for children standing in front of it
-        front = np.zeros(n)
+        front, n_front = np.zeros(n), np.zeros(n)
         # and on every side of it for its children all round (the chairs at a table)
-        around = np.zeros(n)
+        around, n_around = np.zeros(n), np.zeros(n)
         for c in range(n):
             if parent[c] >= 0 and "front" in wants[c].places:
                 front[parent[c]] = max(front[parent[c]], model.size[c, 1] + 0.15)
+                n_front[parent[c]] += 1
             if parent[c] >= 0 and "all_round" in wants[c].places:
                 around[parent[c]] = max(around[parent[c]], model.size[c, 1] + _GAP[0])
+                n_around[parent[c]] += 1
         self.front_margin, self.around_margin = front, around
+        self.n_front, self.n_around = n_front, n_around
         self.lo, self.hi = room.bounds[:2], room.bounds[2:]
         self.floor = room.shape
         shapely.prepare(self.floor)
@@ -719,17 +750,33 @@ class _Placer:
             return self._clearance(centres, rgt, fwd, ext, solid, slack, pos, yaw,
                                    not walkable[r])
 
+        def roomy(centres: np.ndarray, ext: np.ndarray) -> np.ndarray:
+            # whether those footprints lie inside the floor and clear of what stands there
+            ins, cl = clearance(centres, ext)
+            return ins & (cl >= _CLEAR)
+
         inside0, clear0 = clearance(cand, half[r])
-        inside, clear = inside0, clear0
-        if sides.max() > 0:  # the footprint widened by the wall its side children need
+        # children that would find no room where their rules put them, per candidate:
+        # each side child on a side without its stretch of wall, each front or all-round
+        # child of a parent without its margin (every one costs its parent a rule)
+        cramped = np.zeros(len(cand))
+        if sides.max() > 0:
             left, right = sides
-            ext = half[r] + np.array([0.5 * (left + right), 0.0])
-            inside, clear = clearance(cand + rgt * (0.5 * (right - left)), ext)
-            if self.either[r]:  # a child that may stand on either side: or mirrored
-                i2, c2 = clearance(cand + rgt * (0.5 * (left - right)), ext)
-                better = i2 & (c2 > np.where(inside, clear, -np.inf))
-                inside, clear = inside | i2, np.where(better, c2, clear)
-        unmet = _unmet(room, w, cand, fwd, rgt, half[r])
+            nl, nr = self.side_count[r]
+
+            def side(metres: float, sign: float) -> np.ndarray:  # room on one side
+                if metres <= 0:
+                    return np.ones(len(cand), dtype=bool)
+                return roomy(cand + rgt * (0.5 * sign * metres),
+                             half[r] + np.array([0.5 * metres, 0.0]))
+
+            cramped = nl * ~side(left, -1.0) + nr * ~side(right, 1.0)
+            if self.either[r] and (left, nl) != (right, nr):  # or the other way round
+                cramped = np.minimum(cramped, nr * ~side(right, -1.0) + nl * ~side(left, 1.0))
+            cramped[:loose] = 0.0  # drawn with no wall kept beside them
+        # no room above it for the object that hangs there: that object goes missing and
+        # the sample fails, so this ranks with a spot in a window zone (below)
+        unmet = 4.0 * _unmet(room, w, cand, fwd, rgt, half[r])
         unmet += _unmet_rules(model, by_object[r], r, cand, cyaw, pos, yaw, placed)
         if window is not None and window.tall[:, r].any():  # tall: not in front of a window
             z = window.tall[:, r]
@@ -741,20 +788,16 @@ class _Placer:
             # a spot in a window zone ranks below one that misses any few rules
             unmet += 4.0 * (sep < -0.02).any(axis=1)
         score = np.where(inside0, clear0, -np.inf)
-        roomy = inside & (clear >= _CLEAR)  # room along the wall for its side children
-        roomy[:loose] = score[:loose] >= _CLEAR
         fm = self.front_margin[r]
-        if fm > 0:  # and in front of it for its front children (the chair at the desk)
-            inside_f, clear_f = clearance(cand + fwd * (0.5 * fm),
-                                          half[r] + np.array([0.0, 0.5 * fm]))
-            roomy &= inside_f & (clear_f >= _CLEAR)
+        if fm > 0:  # in front of it for its front children (the chair at the desk)
+            cramped += self.n_front[r] * ~roomy(cand + fwd * (0.5 * fm),
+                                                half[r] + np.array([0.0, 0.5 * fm]))
         am = self.around_margin[r]
-        if am > 0:  # and all round it for its children there (the chairs at a table)
-            inside_a, clear_a = clearance(cand, half[r] + am)
-            roomy &= inside_a & (clear_a >= _CLEAR)
-        # first clear candidate meeting the most of the rules it can be judged by and
-        # leaving room for its children (as much as one rule); else the most clearance
-        rank = np.where(score >= _CLEAR, 20.0 - 2.0 * unmet + 2.0 * roomy,
+        if am > 0:  # all round it for its children there (the chairs at a table)
+            cramped += self.n_around[r] * ~roomy(cand, half[r] + am)
+        # first clear candidate meeting the most of the rules it can be judged by, its
+        # children's counted too; else the one with the most clearance
+        rank = np.where(score >= _CLEAR, 20.0 - 2.0 * (unmet + cramped),
                         np.where(np.isfinite(score), -10.0, -99.0))
         k = int(np.argmax(rank)) if rank.max() > -10.0 else int(np.argmax(score))
         if np.isfinite(score[k]):

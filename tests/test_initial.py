@@ -284,3 +284,22 @@ def test_a_start_keeps_room_above_an_object_for_what_hangs_there():
                   {"rule": "above", "object": "painting", "target": "sideboard"}]})
     missing = [bool(fl.solve(plan, seed).report.missing) for seed in range(12)]
     assert sum(missing) <= 1
+
+
+def test_an_object_draws_again_where_no_candidate_meets_its_rules():
+    """A table that should stand 3.5 m from a sofa in the corner of a 6 x 4 m room: few
+    spots qualify, so where the first draw has none, a second one is made."""
+    plan = fl.Plan.from_dict({
+        "name": "apart",
+        "room": {"polygon": [[0, 0], [6.0, 0], [6.0, 4.0], [0, 4.0]], "height": 2.6},
+        "objects": [{"id": "sofa", "category": "sofa", "size": [2.0, 0.9, 0.85]},
+                    {"id": "table", "category": "table", "size": [0.6, 0.6, 0.7]}],
+        "rules": [{"rule": "in_corner", "object": "sofa"},
+                  {"rule": "far_from", "object": "table", "target": "sofa",
+                   "params": {"distance": 3.5}}]})
+    model = ForceModel(plan)
+    far = next(k for k, b in enumerate(model.bindings) if b.rule.name == "far_from")
+    met = sum(model.satisfied(model.state(*propose_poses(model, np.random.default_rng(s),
+                                                         tries=2)))[far]
+              for s in range(100))
+    assert met >= 18  # one draw of 3 candidates: 11 of these 100

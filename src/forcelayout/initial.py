@@ -32,6 +32,9 @@ _SIDE_PLACES = frozenset({"beside", "left", "right"})
 #: Clearance a start pose keeps to other objects and door zones, metres (less a rounding
 #: tolerance: a pose flush against a wall beside a door zone sits right at it).
 _CLEAR = 0.05 - 1e-6
+#: Rank of a clear candidate that meets every rule it can be judged by, its children's room
+#: included (each miss takes 2 off).
+_ALL_MET = 20.0
 #: Gaps a child starts at beside or in front of its parent, metres (drawn uniformly).
 _GAP = (0.02, 0.1)
 #: Wall a child beside its parent takes besides its width: the closest gap it starts at
@@ -549,7 +552,9 @@ def propose_poses(
     footprint lies inside the floor, clear of the objects placed so far and of
     the door swing squares is kept (else the one with the most clearance), so
     the start is random — which wall, which corner, where along it — but close
-    to a valid arrangement. Nothing loops beyond ``tries`` draws per object.
+    to a valid arrangement. Where no candidate is clear and meets every rule
+    it can be judged by, a second draw is made; nothing loops beyond those two
+    draws of ``tries`` candidates (and their fall-backs) per object.
 
     Returns
     -------
@@ -682,7 +687,29 @@ class _Placer:
 
     def place(self, r: int, placed: list[int], pos: np.ndarray, yaw: np.ndarray,
               rng: np.random.Generator, tries: int, spread: float) -> None:
-        """Choose a pose for row ``r`` given the ``placed`` rows; writes ``pos[r], yaw[r]``."""
+        """Choose a pose for row ``r`` given the ``placed`` rows; writes ``pos[r], yaw[r]``.
+
+        Where no candidate of the first draw is clear and meets every rule it can
+        be judged by, with room for its children, a second draw is made and the
+        better of the two kept (two beds that should stand apart: few spots along
+        the walls are far enough from the first).
+        """
+        best = self._best(r, placed, pos, yaw, rng, tries, spread)
+        if best[0] < _ALL_MET:
+            again = self._best(r, placed, pos, yaw, rng, tries, spread)
+            blocked = max(best[0], again[0]) <= -10.0  # neither clear: the more clearance
+            if again[0] > best[0] or (blocked and again[1] > best[1]):
+                best = again
+        if np.isfinite(best[1]):
+            pos[r], yaw[r] = best[2], best[3]
+        else:  # no candidate inside the floor: the centroid, and let the walls push
+            pos[r] = self.room.centroid
+
+    def _best(self, r: int, placed: list[int], pos: np.ndarray, yaw: np.ndarray,
+              rng: np.random.Generator, tries: int, spread: float
+              ) -> tuple[float, float, np.ndarray, float]:
+        """One draw of candidates for row ``r``, judged: the rank, clearance, position and
+        heading of the best one."""
         model, room = self.model, self.room
         half, radius, parent, wants = self.half, self.radius, self.parent, self.wants
         walkable, by_object, window = self.walkable, self.by_object, self.window
@@ -797,10 +824,7 @@ class _Placer:
             cramped += self.n_around[r] * ~roomy(cand, half[r] + am)
         # first clear candidate meeting the most of the rules it can be judged by, its
         # children's counted too; else the one with the most clearance
-        rank = np.where(score >= _CLEAR, 20.0 - 2.0 * (unmet + cramped),
+        rank = np.where(score >= _CLEAR, _ALL_MET - 2.0 * (unmet + cramped),
                         np.where(np.isfinite(score), -10.0, -99.0))
         k = int(np.argmax(rank)) if rank.max() > -10.0 else int(np.argmax(score))
-        if np.isfinite(score[k]):
-            pos[r], yaw[r] = cand[k], cyaw[k]
-        else:  # no candidate inside the floor: the centroid, and let the walls push
-            pos[r] = room.centroid
+        return float(rank[k]), float(score[k]), cand[k], float(cyaw[k])

@@ -101,7 +101,23 @@ def test_suite_quick(tmp_path: Path) -> None:
     assert json.loads(out.read_text()) == result
 
 
-@pytest.mark.parametrize("script", ["paper_tables.py", "scaling.py", "suite.py"])
+def test_floor_quick(tmp_path: Path) -> None:
+    """Time per raw sample beside a bare Box2D loop of the same bodies and steps."""
+    out = tmp_path / "floor.json"
+    result, rest = run("floor.py", "--quick", "--jobs", "1", "--plans", "bedroom",
+                       "--markdown", "--out", str(out))
+    assert result["benchmark"] == "floor"
+    (row,) = result["plans"]
+    assert row["plan"] == "bedroom" and row["floor_bodies"] == 8 and row["samples"] == 3
+    assert row["mean_steps"] > 0 and row["bare_ms_per_sample"] > 0
+    assert row["ratio"] == pytest.approx(row["ms_per_sample"] / row["bare_ms_per_sample"])
+    assert 0 <= row["good"] <= 3 and row["baseline"]["tries"] <= 60
+    assert set(result["overall"]["targets"]) == {"ratio", "living_room", "speed_suite"}
+    assert "| bedroom | 8 |" in rest and "| **overall** |" in rest and "Targets" in rest
+    assert json.loads(out.read_text()) == result
+
+
+@pytest.mark.parametrize("script", ["paper_tables.py", "scaling.py", "suite.py", "floor.py"])
 def test_scripts_reject_bad_arguments(script: str) -> None:
     bad = ["--n", "0"] if script == "paper_tables.py" else ["--samples", "0"]
     proc = subprocess.run([sys.executable, str(BENCH / script), *bad], capture_output=True,

@@ -119,6 +119,31 @@ def test_a_start_that_passes_is_settled_not_rearranged():
             assert lay.check().ok
 
 
+def test_a_settle_that_does_not_pass_yet_goes_on_once(monkeypatch):
+    """A floor still moving that fails when the settle's steps run out settles as many steps
+    again; one that passes then is kept as it is."""
+    from forcelayout import pipeline
+    from forcelayout.initial import propose_poses
+    from forcelayout.verdict import FloorVerdict
+
+    model = ForceModel(fl.load_plan("living_room"))
+    pos, yaw = propose_poses(model, np.random.default_rng(0))
+    yaw = yaw + 0.3  # turned off square: it moves for a while
+    opts = fl.Options(solver=SolverConfig(settle_steps=6))
+    verdicts = []
+
+    def judge(model, pos, yaw, check_kwargs=None):
+        verdicts.append(FloorVerdict() if verdicts else FloorVerdict(["collision: x"], {0}))
+        return verdicts[-1]
+
+    monkeypatch.setattr(pipeline, "judge_floor", judge)
+    res, ok = pipeline._settle(model, pos, yaw, opts, 0)
+    assert ok and len(verdicts) == 2 and 6 < res.steps <= 12
+    verdicts[:] = [FloorVerdict()]  # passes at once: one judgement, no more steps
+    res, ok = pipeline._settle(model, pos, yaw, opts, 0)
+    assert ok and len(verdicts) == 2 and res.steps <= 6
+
+
 def test_a_start_nothing_acts_on_is_returned_at_once():
     m = ForceModel(two_boxes())
     pos = np.array([[1.0, 1.7], [3.0, 1.7]])  # square, apart, clear of the walls and the door

@@ -296,6 +296,14 @@ def _diversity_count(rows: list[dict[str, Any]]) -> str:
             f"{thin} against fewer than {FEW_LAYOUTS} baseline layouts")
 
 
+def _below(rows: list[dict[str, Any]], target: str, *, count: bool = True) -> str:
+    """How many judged plans meet a per-plan target (with ``count``) and which do not."""
+    judged = [r for r in rows if "error" not in r and r["targets"][target] is not None]
+    failed = [r["plan"] for r in judged if not r["targets"][target]]
+    text = f"{len(judged) - len(failed)} of {len(judged)} plans" if count else ""
+    return text + (f"; below: {', '.join(failed)}" if failed else "")
+
+
 def markdown(result: dict[str, Any]) -> str:
     head = ("| plan | objects | fill % | good % FL | good % BL | good/s FL | good/s BL "
             "| geo FL | geo BL | topo FL | topo BL | BL layouts | repaired % | yield | ≥ BL "
@@ -332,13 +340,16 @@ def markdown(result: dict[str, Any]) -> str:
         f"Targets over {o['plans']} plans ({o['errors']} errors; the baseline solves "
         f"{o['baseline_solvable']}):",
         f"- good yield ≥ {YIELD_EACH:.0%} on every plan the baseline solves: "
-        f"{_mark(to['yield_each'])}; mean ≥ {YIELD_MEAN:.0%} there "
+        f"{_mark(to['yield_each'])} ({_below(result['plans'], 'yield')}); "
+        f"mean ≥ {YIELD_MEAN:.0%} there "
         f"({_num(fo['yield_pct_solvable'])} %): {_mark(to['yield_mean'])}",
         f"- never below the baseline's yield: {_mark(to['not_below_baseline'])}",
         f"- diversity ≥ {DIVERSITY_RATIO} × the baseline's on every plan: "
-        f"{_mark(to['diversity'])} ({_diversity_count(result['plans'])})",
+        f"{_mark(to['diversity'])} ({_diversity_count(result['plans'])}"
+        f"{_below(result['plans'], 'diversity', count=False)})",
         f"- good/s ≥ the baseline's on every plan of ≥ {SPEED_MIN_OBJECTS} objects: "
-        f"{_mark(to['speed_each'])}; ≥ {SPEED_SUITE:g} × over the suite "
+        f"{_mark(to['speed_each'])} ({_below(result['plans'], 'speed')}); "
+        f"≥ {SPEED_SUITE:g} × over the suite "
         f"({_num(o['speed_ratio'], 2)} ×): {_mark(to['speed_suite'])}",
     ]
     return "\n".join(lines)

@@ -97,8 +97,14 @@ def test_suite_quick(tmp_path: Path) -> None:
     assert set(o["targets"]) == {"yield_each", "yield_mean", "not_below_baseline",
                                  "diversity", "speed_each", "speed_suite"}
     assert "| bedroom | 11 |" in rest and "| **overall** |" in rest and "Targets" in rest
-    assert "| BL layouts |" in rest and "baseline layouts)" in rest  # what diversity rests on
+    assert "| BL layouts |" in rest and "baseline layouts" in rest  # what diversity rests on
     assert json.loads(out.read_text()) == result
+    sys.path.insert(0, str(BENCH))
+    from suite import markdown
+
+    row["targets"]["speed"] = False  # a failing plan is named in its target's line
+    speed_line = next(line for line in markdown(result).splitlines() if "good/s ≥" in line)
+    assert "0 of 1 plans; below: bedroom)" in speed_line
 
 
 def test_floor_quick(tmp_path: Path) -> None:

@@ -38,8 +38,13 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _common import default_jobs, dump, jsonable  # noqa: E402
-from suite import GOOD_RULES, resolve_plans  # noqa: E402
+from _common import dump, jsonable  # noqa: E402
+from suite import (  # noqa: E402
+    GOOD_RULES,
+    add_plan_arguments,
+    parse_plan_arguments,
+    resolve_plans,
+)
 
 import forcelayout as fl  # noqa: E402
 from forcelayout.baselines import rejection_sample  # noqa: E402
@@ -172,41 +177,21 @@ def markdown(result: dict[str, Any]) -> str:
 
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--plans", nargs="*", default=None,
-                    help="bundled plan names, plan JSON files or folders of them "
-                         "(default: plans/*.json)")
-    ap.add_argument("--samples", type=int, default=30, help="raw samples per plan (default 30)")
-    ap.add_argument("--baseline-tries", type=int, default=2000,
-                    help="most tries of the rejection baseline per plan (default 2000)")
-    ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--jobs", type=int, default=None,
-                    help=f"worker processes over plans (default {default_jobs()})")
-    ap.add_argument("--quick", action="store_true",
-                    help="3 samples, 60 baseline tries: a smoke run")
-    ap.add_argument("--markdown", action="store_true", help="also print a Markdown table")
-    ap.add_argument("--out", default=None, help="also write the JSON to this file")
-    args = ap.parse_args(argv)
-    if args.quick:
-        args.samples, args.baseline_tries = min(args.samples, 3), min(args.baseline_tries, 60)
-    for name in ("samples", "baseline_tries"):
-        if getattr(args, name) < 1:
-            ap.error(f"--{name.replace('_', '-')} must be >= 1")
-    jobs = default_jobs() if args.jobs is None else args.jobs
-    if jobs < 1:
-        ap.error("--jobs must be >= 1")
+    add_plan_arguments(ap, "raw samples per plan (default 30)")
+    args = parse_plan_arguments(ap, argv)
     sources = resolve_plans(args.plans)
     task = (args.samples, args.baseline_tries, args.seed)
     t0 = time.perf_counter()
-    if jobs <= 1 or len(sources) <= 1:
+    if args.jobs <= 1 or len(sources) <= 1:
         rows = [bench_plan(s, *task) for s in sources]
     else:
-        with ProcessPoolExecutor(max_workers=jobs) as ex:
+        with ProcessPoolExecutor(max_workers=args.jobs) as ex:
             rows = list(ex.map(bench_plan, sources, *([t] * len(sources) for t in task)))
     result = {
         "benchmark": "floor",
         "forcelayout": fl.__version__,
         "config": {"samples": args.samples, "baseline_tries": args.baseline_tries,
-                   "seed": args.seed, "jobs": jobs, "good_rules": GOOD_RULES},
+                   "seed": args.seed, "jobs": args.jobs, "good_rules": GOOD_RULES},
         "plans": rows,
         "overall": overall(rows),
         "wall_seconds": time.perf_counter() - t0,

@@ -355,18 +355,15 @@ def markdown(result: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def main(argv: list[str] | None = None) -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def add_plan_arguments(ap: argparse.ArgumentParser, samples_help: str) -> None:
+    """The options every plan-suite script takes: plans, samples, baseline tries, seed, jobs,
+    ``--quick``, ``--markdown``, ``--out``."""
     ap.add_argument("--plans", nargs="*", default=None,
                     help="bundled plan names, plan JSON files or folders of them "
                          f"(default: {PLANS_DIR.name}/*.json)")
-    ap.add_argument("--samples", type=int, default=30,
-                    help="raw forcelayout samples per plan, and layouts the baseline is asked "
-                         "for (default 30)")
+    ap.add_argument("--samples", type=int, default=30, help=samples_help)
     ap.add_argument("--baseline-tries", type=int, default=2000,
                     help="most tries of the rejection baseline per plan (default 2000)")
-    ap.add_argument("--pairs-of", type=int, default=30,
-                    help="diversity over at most this many good layouts per plan (default 30)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--jobs", type=int, default=None,
                     help=f"worker processes over plans (default {default_jobs()})")
@@ -374,16 +371,32 @@ def main(argv: list[str] | None = None) -> None:
                     help="3 samples, 60 baseline tries: a smoke run")
     ap.add_argument("--markdown", action="store_true", help="also print a Markdown table")
     ap.add_argument("--out", default=None, help="also write the JSON to this file")
+
+
+def parse_plan_arguments(ap: argparse.ArgumentParser, argv: list[str] | None,
+                         counts: tuple[str, ...] = ("samples", "baseline_tries")
+                         ) -> argparse.Namespace:
+    """Parse, apply ``--quick``, refuse ``counts`` below 1 and fill in ``--jobs``."""
     args = ap.parse_args(argv)
     if args.quick:
         args.samples, args.baseline_tries = min(args.samples, 3), min(args.baseline_tries, 60)
-    for name in ("samples", "baseline_tries", "pairs_of"):
+    for name in counts:
         if getattr(args, name) < 1:
             ap.error(f"--{name.replace('_', '-')} must be >= 1")
     if args.jobs is None:
         args.jobs = default_jobs()
     if args.jobs < 1:
         ap.error("--jobs must be >= 1")
+    return args
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    add_plan_arguments(ap, "raw forcelayout samples per plan, and layouts the baseline is "
+                           "asked for (default 30)")
+    ap.add_argument("--pairs-of", type=int, default=30,
+                    help="diversity over at most this many good layouts per plan (default 30)")
+    args = parse_plan_arguments(ap, argv, ("samples", "baseline_tries", "pairs_of"))
     sources = resolve_plans(args.plans)
     t0 = time.perf_counter()
     rows = run_all(sources, args)

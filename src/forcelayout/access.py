@@ -134,9 +134,10 @@ class AccessTerm:
         if not len(self.owner):
             return f, np.zeros(n)
         centre, out, lateral, half = self.zones(state)
-        sep = geo.obb_separation(state.pos[None, :, :] - centre[:, None, :], lateral[:, None],
-                                 out[:, None], half[:, None], state.right[None],
-                                 state.front[None], state.half[None])  # (Z, N)
+        rows = state.peers(self.owner)  # (Z, rows): the objects of each zone's sample
+        sep = geo.obb_separation(state.pos[rows] - centre[:, None, :], lateral[:, None],
+                                 out[:, None], half[:, None], state.right[rows],
+                                 state.front[rows], state.half[rows])
         pen = np.where(self.exempt, 0.0, np.maximum(0.02 - sep, 0.0))
         active = pen > 0
         if self.multi:
@@ -144,18 +145,27 @@ class AccessTerm:
             active &= keep[:, None]
         if not active.any():
             return f, np.zeros(n)
-        push_out(f, state, centre, out, lateral, half, pen, active, self.strength)
+        push_out(f, state, centre, out, lateral, half, pen, active, self.strength, cols=rows)
         return f, np.zeros(n)
+
+    def stack(self, samples: int, rows: int) -> AccessTerm:
+        """The same zones for ``samples`` stacked samples of ``rows`` rows each."""
+        shift = np.repeat(np.arange(samples) * rows, len(self.owner))
+        return AccessTerm(np.tile(self.owner, samples) + shift,
+                          np.tile(self.direction, (samples, 1)), np.tile(self.depth, samples),
+                          np.tile(self.exempt, (samples, 1)), self.strength)
 
     def _least_obstructed(self, state, centre, out, lateral, half, pen) -> np.ndarray:
         """For owners with several zones, keep the one with the least intrusion (walls too)."""
         corners = geo.corners_from_axes(centre, lateral, out, half)  # (Z, 4, 2)
         outside = (~state.room.contains(corners.reshape(-1, 2))).reshape(-1, 4).sum(1)
         cost = pen.sum(1) + outside * 1.0
+        # per owner, its cheapest zone (the first of equals)
+        order = np.lexsort((np.arange(len(cost)), cost, self.owner))
+        first = np.ones(len(order), dtype=bool)
+        first[1:] = self.owner[order[1:]] != self.owner[order[:-1]]
         keep = np.zeros(len(self.owner), dtype=bool)
-        for o in np.unique(self.owner):
-            zs = np.flatnonzero(self.owner == o)
-            keep[zs[np.argmin(cost[zs])]] = True
+        keep[order[first]] = True
         return keep
 
 

@@ -21,7 +21,8 @@ __all__ = ["push_out", "WindowTerm"]
 
 def push_out(f: np.ndarray, state: State, centre: np.ndarray, out: np.ndarray,
              lateral: np.ndarray, half: np.ndarray, pen: np.ndarray, active: np.ndarray,
-             strength: float, slide: np.ndarray | None = None) -> None:
+             strength: float, slide: np.ndarray | None = None,
+             cols: np.ndarray | None = None) -> None:
     """Add to ``f`` (N, 2) the push of every active (zone, object) pair out of the zone.
 
     Parameters
@@ -33,18 +34,23 @@ def push_out(f: np.ndarray, state: State, centre: np.ndarray, out: np.ndarray,
         Zone centres and unit axes (``out``: away from the wall or owner).
     half : ndarray, shape (Z, 2)
         Half extents along ``lateral`` and ``out``, metres.
-    pen : ndarray, shape (Z, N)
+    pen : ndarray, shape (Z, M)
         Intrusion of each object into each zone, metres (>= 0).
-    active : ndarray of bool, shape (Z, N)
+    active : ndarray of bool, shape (Z, M)
         Pairs to push.
     strength : float
         Force per metre of intrusion; capped at ``0.15 * strength``.
     slide : ndarray of bool, shape (N,), optional
         Objects always pushed sideways (held at a wall: pushed along it).
+    cols : ndarray of int, shape (Z, M), optional
+        The row of each column of ``pen`` (a zone meets the objects of its own
+        sample, :meth:`State.peers`); by default column ``m`` is row ``m``.
     """
     if not active.any():
         return
-    z, b = np.nonzero(active)
+    z, c = np.nonzero(active)
+    pen_zb = pen[z, c]
+    b = c if cols is None else cols[z, c]
     d = state.pos[b] - centre[z]
     a = (d * lateral[z]).sum(1)
     ahead = (d * out[z]).sum(1)
@@ -55,7 +61,7 @@ def push_out(f: np.ndarray, state: State, centre: np.ndarray, out: np.ndarray,
     pen_side = half[z, 0] + ext_a - np.abs(a)  # to leave sideways
     pen_out = half[z, 1] + ext_o - ahead  # to leave through the far side
     sideways = pen_side <= pen_out
-    mag = np.minimum(strength * pen[z, b], 0.15 * strength)
+    mag = np.minimum(strength * pen_zb, 0.15 * strength)
     side_dir = lateral[z] * np.where(a >= 0, 1.0, -1.0)[:, None]
     push = np.where(sideways[:, None], side_dir, out[z])
     if slide is not None and slide[b].any():
@@ -105,6 +111,16 @@ class WindowTerm:
         self.tall = (height[None, :] > sill[keep][:, None] + 1e-9) & ~exempt[None, :]
         self.strength = float(strength)
         self.slide = slide
+
+    def stack(self, samples: int, rows: int) -> WindowTerm:
+        """The same zones for ``samples`` stacked samples of ``rows`` rows each."""
+        out = object.__new__(WindowTerm)
+        out.centre, out.lateral, out.out, out.half = self.centre, self.lateral, self.out, \
+            self.half
+        out.tall = np.tile(self.tall, (1, samples))
+        out.strength = self.strength
+        out.slide = None if self.slide is None else np.tile(self.slide, samples)
+        return out
 
     def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
         n = state.n

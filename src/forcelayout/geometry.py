@@ -188,35 +188,40 @@ def separation_matrix(
     """Separating-axis clearance between every pair of oriented rectangles.
 
     The all-pairs form of :func:`obb_separation`, built from a few (M, M)
-    matrix products instead of per-pair gathers.
+    matrix products instead of per-pair gathers. Leading axes are sets of
+    rectangles computed independently (a stack of samples): each set's
+    matrix is the same, bit for bit, whatever else is stacked with it.
 
     Parameters
     ----------
-    pos, right, front, half : ndarray, shape (M, 2)
+    pos, right, front, half : ndarray, shape (..., M, 2)
         Centres, unit right and front axes, half extents.
 
     Returns
     -------
-    sep : ndarray, shape (M, M)
+    sep : ndarray, shape (..., M, M)
         Symmetric signed clearance in metres; the diagonal is meaningless.
-    along_right, along_front : ndarray, shape (M, M)
+    along_right, along_front : ndarray, shape (..., M, M)
         Only with ``with_axis_gaps``: ``[i, j]`` is the clearance between
         footprint i and the bounding box of footprint j in i's frame, along
         i's right and front axes.
     """
-    pr = pos @ right.T  # [j, i] = pos_j . r_i
-    pf = pos @ front.T
-    dr = np.abs(pr - np.diagonal(pr)[None, :])  # [j, i] = |(pos_j - pos_i) . r_i|
-    df = np.abs(pf - np.diagonal(pf)[None, :])
-    c = np.abs(right @ right.T)
-    s = np.abs(right @ front.T)  # |sin| of the relative angle, symmetric for rectangles
-    hx, hy = half[:, 0], half[:, 1]
+    rt, ft = np.swapaxes(right, -1, -2), np.swapaxes(front, -1, -2)
+    pr = np.matmul(pos, rt)  # [j, i] = pos_j . r_i
+    pf = np.matmul(pos, ft)
+    dr = np.abs(pr - np.diagonal(pr, axis1=-2, axis2=-1)[..., None, :])  # |(pos_j - pos_i).r_i|
+    df = np.abs(pf - np.diagonal(pf, axis1=-2, axis2=-1)[..., None, :])
+    c = np.abs(np.matmul(right, rt))
+    s = np.abs(np.matmul(right, ft))  # |sin| of the relative angle, symmetric for rectangles
+    hx, hy = half[..., 0], half[..., 1]
     # g1[j, i]: gap along r_i; g2[j, i]: gap along f_i
-    g1 = dr - hx[None, :] - (hx[:, None] * c + hy[:, None] * s)
-    g2 = df - hy[None, :] - (hx[:, None] * s + hy[:, None] * c)
+    g1 = dr - hx[..., None, :] - (hx[..., :, None] * c + hy[..., :, None] * s)
+    g2 = df - hy[..., None, :] - (hx[..., :, None] * s + hy[..., :, None] * c)
     g = np.maximum(g1, g2)
-    sep = np.maximum(g, g.T)
-    return (sep, g1.T, g2.T) if with_axis_gaps else sep
+    sep = np.maximum(g, np.swapaxes(g, -1, -2))
+    if with_axis_gaps:
+        return sep, np.swapaxes(g1, -1, -2), np.swapaxes(g2, -1, -2)
+    return sep
 
 
 def box_separation(ca: np.ndarray, cb: np.ndarray) -> np.ndarray:

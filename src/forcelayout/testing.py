@@ -414,7 +414,10 @@ def check_rule(
     5. where the check says "satisfied with margin" (it stays satisfied
        when every object is nudged by about 2 cm and 1°), the force is at most
        ``max_satisfied_force`` times the binding weight, so a finished layout
-       is not pulled around.
+       is not pulled around;
+    6. a rule that declares ``batched = True`` gives each sample of a state
+       stacking three samples (``State.samples``) the forces that sample gets
+       alone, bit for bit.
 
     Parameters
     ----------
@@ -505,6 +508,8 @@ def check_rule(
                     f"from {np.round(f, 4).tolist()} to {np.round(f2, 4).tolist()}. Use "
                     "positions relative to the room's walls or the target, not absolute ones")
             _call_satisfied(inst, state, ii, jj, params_for(len(ii)), where)
+        if inst.batched:
+            _check_batched(inst, state, i, j, params_for(len(i)), rng, where)
         ok = _call_satisfied(inst, state, i, j, params_for(len(i)), where)
         before.append(ok)
         _check_margin(inst, state, i, j, params_for(len(i)), ok, rng, max_satisfied_force, where)
@@ -529,6 +534,32 @@ def check_rule(
             "The force must point towards what satisfied() accepts")
     return {"rule": inst.name, "states": n_states, "bindings": len(i) * n_states,
             "satisfied_before": frac_before, "satisfied_after": frac_after}
+
+
+def _check_batched(rule: Rule, state: State, i: np.ndarray, j: np.ndarray | None,
+                   p: ParamArrays, rng: np.random.Generator, where: str) -> None:
+    """A ``batched`` rule on three stacked samples: each gets its own forces, bit for bit."""
+    n = state.n
+    states = [state] + [State(state.pos + rng.normal(0.0, 0.3, state.pos.shape),
+                              state.yaw + rng.normal(0.0, 0.5, n), state.size, state.room,
+                              state.ids) for _ in range(2)]
+    stacked = State(np.concatenate([s.pos for s in states]),
+                    np.concatenate([s.yaw for s in states]), np.tile(state.size, (3, 1)),
+                    state.room, state.ids * 3, samples=3)
+    shift = np.repeat(np.arange(3) * n, len(i))
+    big = ParamArrays({k: np.tile(v, 3) for k, v in p._fields.items()}, np.tile(p.weight, 3))
+    f, tau = _call_force(rule, stacked, np.tile(i, 3) + shift,
+                         None if j is None else np.tile(j, 3) + shift, big, where + ", stacked")
+    for b, one in enumerate(states):
+        f1, t1 = _call_force(rule, one, i, j, p, where)
+        rows = slice(b * len(i), (b + 1) * len(i))
+        if not (np.array_equal(f[rows], f1) and np.array_equal(tau[rows], t1)):
+            raise RuleConformanceError(
+                f"{rule.name} declares batched = True, but on a state stacking three samples "
+                f"({where}) sample {b} got other forces than alone: it relates rows of "
+                "different samples. Use only i, j and State.separation, gap_estimate, gap "
+                "and peers (never the all-pairs matrices or every row), or set "
+                "batched = False (the engine then calls the rule once per sample)")
 
 
 def _check_margin(rule: Rule, state: State, i: np.ndarray, j: np.ndarray | None,

@@ -160,6 +160,14 @@ class State:
     surfaces : tuple of str, optional
         Where each object rests (``"floor"``, a parent id, ``"wall:<i>"``,
         ``"ceiling"``); finished layouts only.
+    samples : int
+        Number of samples stacked in the arrays (the batched engine): sample
+        ``b`` takes the ``rows`` consecutive rows from ``b * rows``. Objects
+        of different samples never interact: pairwise terms use index pairs
+        from one sample (the bindings' rows), :meth:`separation`,
+        :meth:`gap_estimate`, :meth:`gap` and :meth:`peers`. The all-pairs
+        matrices :attr:`separations` and :attr:`gap_estimates` exist for a
+        single sample only.
     """
 
     pos: np.ndarray
@@ -169,6 +177,7 @@ class State:
     ids: tuple[str, ...] = ()
     z: np.ndarray | None = None
     surfaces: tuple[str, ...] | None = None
+    samples: int = 1
     _cache: dict[str, np.ndarray] = field(default_factory=dict, repr=False, compare=False)
 
     @property
@@ -218,22 +227,67 @@ class State:
             d = self._cache["wall_distance"] = np.sqrt(s * s + beyond * beyond)
         return d
 
+    @property
+    def rows(self) -> int:
+        """Rows per sample (``n // samples``)."""
+        return self.n // self.samples
+
+    def peers(self, i: np.ndarray) -> np.ndarray:
+        """Every row of the sample of each row ``i``, shape (len(i), rows).
+
+        For one sample, each line is ``0..n-1``: the objects a row's
+        line of sight or access zone may meet.
+        """
+        m = self.rows
+        i = np.asarray(i, dtype=int)
+        return (i // m * m)[:, None] + np.arange(m)
+
+    def sample(self, b: int) -> State:
+        """The state of stacked sample ``b`` alone (a view of its rows)."""
+        if self.samples == 1:
+            return self
+        m = self.rows
+        rows = slice(b * m, (b + 1) * m)
+        return State(self.pos[rows], self.yaw[rows], self.size[rows], self.room, self.ids,
+                     None if self.z is None else self.z[rows], self.surfaces)
+
     def _separations(self) -> np.ndarray:
+        """Blocks of (rows + doors)^2 separations, shape (samples, M, M)."""
         m = self._cache.get("separations")
         if m is None:
+            k, r = self.samples, self.rows
+            pos = self.pos.reshape(k, r, 2)
+            right, front = self.right.reshape(k, r, 2), self.front.reshape(k, r, 2)
+            half = self.half.reshape(k, r, 2)
             dc, dr, df, dh = self.room.door_zones
             if len(dc):
-                m, g1, g2 = geo.separation_matrix(np.concatenate([self.pos, dc]),
-                                                  np.concatenate([self.right, dr]),
-                                                  np.concatenate([self.front, df]),
-                                                  np.concatenate([self.half, dh]),
-                                                  with_axis_gaps=True)
-            else:
-                m, g1, g2 = geo.separation_matrix(self.pos, self.right, self.front, self.half,
-                                                  with_axis_gaps=True)
+                def more(a: np.ndarray, z: np.ndarray) -> np.ndarray:
+                    return np.concatenate([a, np.broadcast_to(z, (k, *z.shape))], axis=1)
+
+                pos, right, front, half = more(pos, dc), more(right, dr), more(front, df), \
+                    more(half, dh)
+            m, g1, g2 = geo.separation_matrix(pos, right, front, half, with_axis_gaps=True)
             self._cache["separations"] = m
             self._cache["axis_gaps"] = (g1, g2)
         return m
+
+    def _one_sample(self, name: str) -> None:
+        if self.samples != 1:
+            raise ValueError(f"State.{name} holds one sample's pairs; this state stacks "
+                             f"{self.samples} samples: use separation(i, j), "
+                             "gap_estimate(i, j) or peers(i)")
+
+    def _estimates(self) -> np.ndarray:
+        e = self._cache.get("gap_estimates")
+        if e is None:
+            self._separations()
+            r = self.rows
+            g1, g2 = self._cache["axis_gaps"]
+            g1, g2 = g1[:, :r, :r], g2[:, :r, :r]
+            p1, p2 = np.maximum(g1, 0.0), np.maximum(g2, 0.0)
+            e = np.where((g1 > 0) & (g2 > 0), np.sqrt(p1 * p1 + p2 * p2), np.maximum(g1, g2))
+            self._cache["gap_estimates"] = e
+        return e
 
     @property
     def gap_estimates(self) -> np.ndarray:
@@ -243,17 +297,17 @@ class State:
         footprint j in i's frame (Euclidean where they are apart on both of
         i's axes): exact for parallel footprints, the usual case once objects
         settle at cardinal angles, and never more than the true gap.
-        Negative values are overlap depths.
+        Negative values are overlap depths. One sample only (see
+        :meth:`gap_estimate`).
         """
-        e = self._cache.get("gap_estimates")
-        if e is None:
-            self._separations()
-            g1, g2 = self._cache["axis_gaps"]
-            g1, g2 = g1[: self.n, : self.n], g2[: self.n, : self.n]
-            p1, p2 = np.maximum(g1, 0.0), np.maximum(g2, 0.0)
-            e = np.where((g1 > 0) & (g2 > 0), np.sqrt(p1 * p1 + p2 * p2), np.maximum(g1, g2))
-            self._cache["gap_estimates"] = e
-        return e
+        self._one_sample("gap_estimates")
+        return self._estimates()[0]
+
+    def gap_estimate(self, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+        """:attr:`gap_estimates` ``[i, j]`` for rows of the same sample, any stack."""
+        r = self.rows
+        b = i // r
+        return self._estimates()[b, i - b * r, j - b * r]
 
     @property
     def separations(self) -> np.ndarray:
@@ -262,18 +316,27 @@ class State:
         A cheap lower bound on :meth:`gap` (exact when two footprints are
         separated along one of their axes, the usual case); negative values
         are overlap depths; the diagonal is meaningless. Use it in
-        :meth:`Rule.force`, and :meth:`gap` in :meth:`Rule.satisfied`.
+        :meth:`Rule.force`, and :meth:`gap` in :meth:`Rule.satisfied`. One
+        sample only (see :meth:`separation`).
         """
-        return self._separations()[: self.n, : self.n]
+        self._one_sample("separations")
+        return self._separations()[0, : self.n, : self.n]
 
     @property
     def door_separations(self) -> np.ndarray:
         """Clearance between each footprint and each door's swing square, shape (N, D)."""
-        return self._separations()[: self.n, self.n:]
+        r = self.rows
+        m = self._separations()
+        return m[:, :r, r:].reshape(self.n, m.shape[2] - r)
 
     def separation(self, i: np.ndarray, j: np.ndarray) -> np.ndarray:
-        """Clearance between footprints ``i`` and ``j`` (see :attr:`separations`), metres."""
-        return self._separations()[i, j]
+        """Clearance between footprints ``i`` and ``j`` (see :attr:`separations`), metres.
+
+        ``i`` and ``j`` are rows of the same sample.
+        """
+        r = self.rows
+        b = i // r
+        return self._separations()[b, i - b * r, j - b * r]
 
     @property
     def corners(self) -> np.ndarray:
@@ -425,6 +488,15 @@ class Rule:
     reaction : float
         Fraction of the force on ``i`` applied, reversed, to the target ``j``
         (binary rules only). 0 keeps the target still, 0.5 splits the pull.
+    batched : bool
+        Whether :meth:`force` may be given a state that stacks many samples
+        (``State.samples > 1``, the batched engine): it relates rows only
+        through ``i`` and ``j`` and the state's per-sample methods
+        (``separation``, ``gap_estimate``, ``gap``, ``peers``), never through
+        the all-pairs matrices or every row at once. The built-in rules are
+        batched. A rule that is not (the default, and any subclass that
+        overrides ``force`` without saying so) is called once per sample
+        with that sample's state, which is correct and slower.
     Params : pydantic model
         Parameters with defaults and units in their descriptions.
 
@@ -456,6 +528,7 @@ class Rule:
     fallback: ClassVar[str | None] = None
     weight: ClassVar[float] = 1.0
     reaction: ClassVar[float] = 0.0
+    batched: ClassVar[bool] = False
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
@@ -495,6 +568,8 @@ class Rule:
                 raise TypeError(f"{cls.__qualname__}.{attr} must be None or a name such as "
                                 f"'behind', got {value!r}")
         cls.aliases = own.get("aliases", ())  # names are not inherited
+        if "force" in own and "batched" not in own:  # a new force says for itself
+            cls.batched = False
         for attr in ("aliases", "specialises"):
             value = getattr(cls, attr)
             if isinstance(value, str) or not all(isinstance(v, str) and v.isidentifier()

@@ -52,11 +52,11 @@ def _facing_error(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
 def _gap_estimate(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
     """Fast lower bound of the footprint gap between `i` and `j`, metres.
 
-    See :attr:`State.gap_estimates`: exact when the two footprints are
+    See :meth:`State.gap_estimate`: exact when the two footprints are
     parallel (the usual case once objects settle at cardinal angles), never
     more than the true gap. Negative values are overlap depths.
     """
-    return state.gap_estimates[i, j]
+    return state.gap_estimate(i, j)
 
 
 class _Distance(Rule):
@@ -85,6 +85,8 @@ class NextTo(_Distance):
     class Params(Rule.Params):
         distance: float = Field(0.15, gt=0, description="Largest footprint gap, m.")
 
+    batched = True  # relates rows through i, j and per-sample pairs only
+
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         return self._pull(state, i, j, p, 0.5 * p.distance)
 
@@ -104,6 +106,8 @@ class Near(_Distance):
 
     class Params(Rule.Params):
         distance: float = Field(1.0, gt=0, description="Largest footprint gap, m.")
+
+    batched = True  # relates rows through i, j and per-sample pairs only
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         return self._pull(state, i, j, p, p.distance - np.minimum(0.1, 0.3 * p.distance))
@@ -127,6 +131,8 @@ class FarFrom(Rule):
 
     class Params(Rule.Params):
         distance: float = Field(2.0, gt=0, description="Smallest footprint gap, m.")
+
+    batched = True  # relates rows through i, j and per-sample pairs only
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         u, _ = unit(state.pos[i] - state.pos[j], fallback=True)
@@ -175,6 +181,8 @@ class Facing(Rule):
                                    description="Floor objects taller than this on the line "
                                                "between the two block the view, m.")
 
+    batched = True  # relates rows through i, j and per-sample pairs only
+
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         err = _facing_error(state, i, j)
         half_cone = np.radians(p.max_angle)
@@ -187,7 +195,8 @@ class Facing(Rule):
         slide *= np.where(np.abs(err) <= half_cone, 0.3, 1.0)  # gently, once inside the cone
         blocked = view_blockers(state, i, j, p.view_height)
         if blocked.any():  # slide away from the blockers' side of the line of sight
-            off = ((state.pos[None, :, :] - state.pos[i][:, None, :]) * r[:, None, :]).sum(2)
+            others = state.pos[state.peers(i)]  # (B, rows, 2): the objects of i's sample
+            off = ((others - state.pos[i][:, None, :]) * r[:, None, :]).sum(2)
             side = np.where(blocked, np.sign(off - lat[:, None] * 0.5), 0.0).sum(1)
             slide = slide - 0.5 * CAP * np.sign(side) * blocked.any(1)
         return r * (p.weight * slide)[:, None], turn(err, 0.6 * half_cone, p.weight)
@@ -214,6 +223,8 @@ class FaceSameAs(Rule):
     @staticmethod
     def _err(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
         return signed_angle(state.front[i], state.front[j])
+
+    batched = True  # relates rows through i, j and per-sample pairs only
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         dead = 0.25 * np.radians(p.max_angle)
@@ -264,6 +275,8 @@ class _Side(Rule):
         lat = (d * v).sum(1)
         gap = a - hu - extent(state, i, u)
         return u, v, hu, hv, a, lat, gap
+
+    batched = True  # relates rows through i, j and per-sample pairs only
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         u, v, hu, hv, a, lat, gap = self._coords(state, i, j)
@@ -382,6 +395,8 @@ class AlignedWith(Rule):
         err = square_error(state.yaw[i], state.yaw[j])
         return off, axis, err
 
+    batched = True  # relates rows through i, j and per-sample pairs only
+
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         off, axis, err = self._geometry(state, i, j)
         mag = ramp(np.abs(off) - 0.5 * p.tolerance) * -np.sign(off)
@@ -391,6 +406,34 @@ class AlignedWith(Rule):
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         off, _, err = self._geometry(state, i, j)
         return (np.abs(off) <= p.tolerance) & (np.abs(err) <= np.radians(p.max_angle))
+
+
+def _same_target(j: np.ndarray) -> np.ndarray:
+    """For each binding, the other bindings with the same target, shape (B, K).
+
+    Row ``k`` lists them in binding order, padded with -1 to ``K``, the
+    most any target has less one: the same whichever other samples' bindings
+    are stacked with these (each sample has its own targets).
+    """
+    b = len(j)
+    if b < 2:
+        return np.zeros((b, 0), dtype=int)
+    order = np.argsort(j, kind="stable")
+    js = j[order]
+    start = np.flatnonzero(np.r_[True, js[1:] != js[:-1]])
+    size = np.diff(np.r_[start, b])
+    k = int(size.max()) - 1
+    if k == 0:
+        return np.zeros((b, 0), dtype=int)
+    first = np.repeat(start, size)  # each sorted binding's group: where it starts, its size
+    n = np.repeat(size, size)
+    q = np.arange(k + 1)[None, :]
+    others = q != (np.arange(b) - first)[:, None]  # every member but itself: k columns
+    at = (first[:, None] + q)[others].reshape(b, k)
+    valid = (q < n[:, None])[others].reshape(b, k)
+    out = np.empty((b, k), dtype=int)
+    out[order] = np.where(valid, order[np.minimum(at, b - 1)], -1)
+    return out
 
 
 class Around(Rule):
@@ -416,18 +459,20 @@ class Around(Rule):
                                  description="Largest angle between the object's front and "
                                              "the direction to the target's centre, deg.")
 
+    batched = True  # relates rows through i, j and per-sample pairs only
+
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         w = p.weight
         u, _ = unit(state.pos[j] - state.pos[i])  # towards the target
         gap = _gap_estimate(state, i, j)
         f = u * (w * ramp(gap - p.distance + np.minimum(0.1, 0.5 * p.distance)))[:, None]
-        b = len(i)
-        if b > 1:  # spread: push apart the angular positions around a shared target
+        mates = _same_target(j)  # (B, K): the other bindings around the same target
+        if mates.shape[1]:  # spread: push apart the angular positions around a shared target
             theta = np.arctan2(-u[:, 1], -u[:, 0])
-            same = (j[:, None] == j[None, :]) & ~np.eye(b, dtype=bool)
+            same = mates >= 0
             k = same.sum(1) + 1
-            dth = np.arctan2(np.sin(theta[:, None] - theta[None, :]),
-                             np.cos(theta[:, None] - theta[None, :]))
+            other = theta[np.maximum(mates, 0)]
+            dth = np.arctan2(np.sin(theta[:, None] - other), np.cos(theta[:, None] - other))
             want = (2.0 * np.pi / k)[:, None]
             push = np.where(same, np.sign(dth) * np.maximum(want - np.abs(dth), 0.0), 0.0)
             tang = np.stack([u[:, 1], -u[:, 0]], axis=1)  # CCW around the target
@@ -476,6 +521,8 @@ class Under(Rule):
     @staticmethod
     def _heading_error(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
         return square_error(state.yaw[i], state.yaw[j])
+
+    batched = True  # relates rows through i, j and per-sample pairs only
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         x, y = self._local(state, i, j)  # the target's centre in the object's frame

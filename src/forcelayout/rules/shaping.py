@@ -153,9 +153,11 @@ def view_blockers(state: State, i: np.ndarray, j: np.ndarray, height: np.ndarray
 
     Returns
     -------
-    ndarray of bool, shape (B, N)
+    ndarray of bool, shape (B, rows)
+        ``[k, m]``: object ``m`` of the binding's sample (row
+        ``state.peers(i)[k, m]``) blocks binding ``k``.
     """
-    b, n = len(i), state.n
+    b, n = len(i), state.rows
     if b == 0 or n == 0:
         return np.zeros((b, n), dtype=bool)
     d = state.pos[j] - state.pos[i]
@@ -163,11 +165,13 @@ def view_blockers(state: State, i: np.ndarray, j: np.ndarray, height: np.ndarray
     mid = 0.5 * (state.pos[i] + state.pos[j])
     perp = np.stack([u[:, 1], -u[:, 0]], axis=1)
     half = np.stack([np.full(b, 0.5 * width), 0.5 * length], axis=1)
-    sep = geo.obb_separation(state.pos[None, :, :] - mid[:, None, :], perp[:, None], u[:, None],
-                             half[:, None], state.right[None], state.front[None],
-                             state.half[None])
-    tall = state.size[None, :, 2] > np.asarray(height, dtype=float).reshape(-1, 1)
+    rows = state.peers(i)  # (B, n): the objects of each binding's sample
+    sep = geo.obb_separation(state.pos[rows] - mid[:, None, :], perp[:, None], u[:, None],
+                             half[:, None], state.right[rows], state.front[rows],
+                             state.half[rows])
+    tall = state.size[rows, 2] > np.asarray(height, dtype=float).reshape(-1, 1)
     out = (sep < 0.0) & tall
-    out[np.arange(b), i] = False
-    out[np.arange(b), j] = False
+    first = rows[:, 0]
+    out[np.arange(b), i - first] = False
+    out[np.arange(b), j - first] = False
     return out

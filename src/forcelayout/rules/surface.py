@@ -72,6 +72,8 @@ class _SurfaceRule(Rule):
     surface = "wall"
     weight = 1.0
 
+    batched = True  # relates rows through i, j and per-sample pairs only
+
     def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         """No floor force: the surface stage places these objects."""
         return _zeros(i)

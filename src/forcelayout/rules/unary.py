@@ -69,6 +69,8 @@ class AtWall(Rule):
         max_angle: float = Field(10.0, gt=0, le=90,
                                  description="Largest angle between back edge and wall, deg.")
 
+    batched = True  # relates rows through i, j and per-sample pairs only
+
     def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         room = state.room
         w = p.weight
@@ -141,6 +143,8 @@ class InCorner(Rule):
     class Params(Rule.Params):
         tolerance: float = Field(0.05, gt=0, description="Largest side-to-wall gap, m.")
 
+    batched = True  # relates rows through i, j and per-sample pairs only
+
     def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         b = len(i)
         k, vert, prev, angle = state.room.convex_corners
@@ -185,6 +189,8 @@ class InMiddle(Rule):
                                 description="Allowed offset from the centroid per axis, "
                                             "as a fraction of the room's extent on that axis.")
 
+    batched = True  # relates rows through i, j and per-sample pairs only
+
     def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         room = state.room
         ext = room.bounds[2:] - room.bounds[:2]
@@ -221,6 +227,8 @@ class _NearOpening(Rule):
         dist2 = (d * d).sum(2)
         k = np.argmin(dist2, axis=1)
         return o.centre[k], np.sqrt(dist2[np.arange(len(i)), k])
+
+    batched = True  # relates rows through i, j and per-sample pairs only
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         b = len(i)
@@ -285,6 +293,8 @@ class AwayFromDoor(Rule):
         distance: float = Field(2.0, gt=0,
                                 description="Smallest distance from the object's centre to "
                                             "any door's centre, m.")
+
+    batched = True  # relates rows through i, j and per-sample pairs only
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         b = len(i)

@@ -126,6 +126,16 @@ class RuleGroup:
         """Params with the weights multiplied by the annealing temperature."""
         return ParamArrays(self.params._fields, self.params.weight * temperature)
 
+    def stack(self, samples: int, rows: int) -> RuleGroup:
+        """The same bindings in each of ``samples`` stacked samples of ``rows`` rows."""
+        shift = np.repeat(np.arange(samples) * rows, len(self.i))
+        p = self.params
+        fields = {k: np.tile(v, samples) for k, v in p._fields.items()}
+        return RuleGroup(self.rule, np.tile(self.i, samples) + shift,
+                         None if self.j is None else np.tile(self.j, samples) + shift,
+                         ParamArrays(fields, np.tile(p.weight, samples)),
+                         np.tile(self.index, samples), np.tile(self.position, samples))
+
     def satisfied(self, state: State) -> np.ndarray:
         """The rule's own check of every binding of the group, shape (B,) of bool."""
         return np.asarray(self.rule.satisfied(state, self.i, self.j, self.params), dtype=bool)

@@ -26,6 +26,7 @@ the bodies.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from typing import Protocol, runtime_checkable
@@ -47,6 +48,8 @@ __all__ = [
     "PassageTerm",
     "PhysicalTerm",
     "ForceModel",
+    "StackedForces",
+    "stack_term",
     "RuleGroup",
     "SOFT_TORQUE_ON_HARD",
 ]
@@ -92,12 +95,32 @@ class RuleTerm:
             if g.rule.hard:
                 held[g.i] = True
         self.soft_torque_scale = np.where(held, SOFT_TORQUE_ON_HARD, 1.0)
+        #: Per group, the group of one sample for rules that are not ``batched``
+        #: (called once per sample), else None.
+        self._single: list[RuleGroup | None] = [None] * len(self.groups)
+        self._samples = 1
+
+    def stack(self, samples: int, rows: int) -> RuleTerm:
+        """The same bindings over ``samples`` stacked samples of ``rows`` rows each."""
+        out = RuleTerm([g.stack(samples, rows) for g in self.groups], samples * rows)
+        out._single = [None if g.rule.batched else g for g in self.groups]
+        out._samples = samples
+        return out
 
     def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
         f = np.zeros((state.n, 2))
         tau = np.zeros(state.n)
-        for g in self.groups:
-            fi, ti = g.rule.force(state, g.i, g.j, g.at_temperature(temperature))
+        for g, one in zip(self.groups, self._single, strict=True):
+            if one is None:
+                fi, ti = g.rule.force(state, g.i, g.j, g.at_temperature(temperature))
+            else:  # a rule that sees one sample at a time
+                p = one.at_temperature(temperature)
+                parts = [g.rule.force(state.sample(b), one.i, one.j, p)
+                         for b in range(self._samples)]
+                fi = np.concatenate([np.asarray(x[0], dtype=float).reshape(-1, 2)
+                                     for x in parts])
+                ti = np.concatenate([np.asarray(x[1], dtype=float).reshape(-1)
+                                     for x in parts])
             if not g.rule.hard:
                 ti = ti * self.soft_torque_scale[g.i]
             if g.unique_i:  # one binding per object: plain fancy-index add
@@ -123,6 +146,10 @@ class PassageTerm:
     def __init__(self, qi: np.ndarray, qj: np.ndarray, weights: PhysicalWeights):
         self.qi, self.qj, self.weights = qi, qj, weights
 
+    def stack(self, samples: int, rows: int) -> PassageTerm:
+        """The same pairs in each of ``samples`` stacked samples of ``rows`` rows."""
+        return PassageTerm(*_tile_pairs(self.qi, self.qj, samples, rows), self.weights)
+
     def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
         w = self.weights
         if w.passage <= 0 or not self.qi.size:
@@ -147,8 +174,50 @@ class PhysicalTerm:
         self.solid = None if solid is None or solid.all() else solid.astype(float)
         self.slide = None if slide is None or not slide.any() else slide
 
+    def stack(self, samples: int, rows: int) -> PhysicalTerm:
+        """The same terms in each of ``samples`` stacked samples of ``rows`` rows."""
+        out = PhysicalTerm(*_tile_pairs(self.pi, self.pj, samples, rows), self.weights)
+        out.solid = None if self.solid is None else np.tile(self.solid, samples)
+        out.slide = None if self.slide is None else np.tile(self.slide, samples)
+        return out
+
     def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
         return physical(state, self.pi, self.pj, self.weights, self.solid, self.slide)
+
+
+def _tile_pairs(pi: np.ndarray, pj: np.ndarray, samples: int, rows: int
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """Row pairs of one sample repeated for each of ``samples`` stacked samples."""
+    shift = np.repeat(np.arange(samples) * rows, len(pi))
+    return np.tile(pi, samples) + shift, np.tile(pj, samples) + shift
+
+
+class _PerSample:
+    """A term that sees one sample at a time, run once per sample of a stacked state."""
+
+    def __init__(self, term: ForceTerm, samples: int):
+        self.term, self.samples = term, samples
+        self.annealed = term.annealed
+
+    def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
+        parts = [self.term(state.sample(b), temperature) for b in range(self.samples)]
+        return (np.concatenate([np.asarray(f, dtype=float).reshape(-1, 2) for f, _ in parts]),
+                np.concatenate([np.asarray(t, dtype=float).reshape(-1) for _, t in parts]))
+
+
+def stack_term(term: ForceTerm, samples: int, rows: int) -> ForceTerm:
+    """``term`` for a state that stacks ``samples`` samples of ``rows`` rows each.
+
+    A term with a method ``stack(samples, rows)`` gives its own stacked form
+    (the built-in terms do: one call then serves every sample); any other
+    term is called once per sample with that sample's state.
+    """
+    if samples == 1:
+        return term
+    stack = getattr(term, "stack", None)
+    if callable(stack):
+        return stack(samples, rows)
+    return _PerSample(term, samples)
 
 
 class ForceModel:
@@ -245,6 +314,7 @@ class ForceModel:
                 self.terms.append(acc)
         for t in terms:
             self.add_term(t)
+        self._stacks: dict[tuple[int, ...], StackedForces] = {}
 
     def _window_term(self, strength: float) -> WindowTerm:
         """Floor objects taller than a window's sill kept out of its clearance zone."""
@@ -280,6 +350,30 @@ class ForceModel:
         finally:
             self.terms = kept
 
+    def leaving_out(self, *kinds: type) -> ForceModel:
+        """A copy of this model without the terms of the given classes (the rest shared)."""
+        out = copy.copy(self)
+        out.terms = [t for t in self.terms if not isinstance(t, kinds)]
+        out._stacks = {}
+        return out
+
+    def stacked(self, samples: int) -> ForceModel | StackedForces:
+        """The forces of this model on ``samples`` samples at once (the batched engine).
+
+        Returns this model for one sample, else a :class:`StackedForces`
+        whose :meth:`~StackedForces.state` stacks the samples' rows; each
+        sample's forces are those this model gives it alone, bit for bit.
+        """
+        if samples == 1:
+            return self
+        key = (samples, *map(id, self.terms))
+        out = self._stacks.get(key)
+        if out is None:
+            if len(self._stacks) > 64:
+                self._stacks.clear()
+            out = self._stacks[key] = StackedForces(self, samples)
+        return out
+
     def state(self, pos: np.ndarray, yaw: np.ndarray) -> State:
         """A :class:`State` of these objects at the given poses."""
         return State(np.asarray(pos, dtype=float), np.asarray(yaw, dtype=float), self.size,
@@ -293,14 +387,7 @@ class ForceModel:
         (semantic) terms, ``annealed=False`` only the others; the solver
         calls both, the first less often (multiple time stepping).
         """
-        f = np.zeros((state.n, 2))
-        tau = np.zeros(state.n)
-        for term in self.terms:
-            if annealed is None or term.annealed == annealed:
-                fk, tk = term(state, temperature)
-                f += fk
-                tau += tk
-        return f, tau
+        return _net(self.terms, state, temperature, annealed)
 
     def semantic(self, state: State, temperature: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
         """The annealed terms alone (``net(..., annealed=True)``)."""
@@ -320,3 +407,51 @@ class ForceModel:
         for g in self.groups:
             out.update(zip(g.position.tolist(), g.satisfied(state).tolist(), strict=True))
         return out
+
+
+def _net(terms: Sequence[ForceTerm], state: State, temperature: float, annealed: bool | None
+         ) -> tuple[np.ndarray, np.ndarray]:
+    f = np.zeros((state.n, 2))
+    tau = np.zeros(state.n)
+    for term in terms:
+        if annealed is None or term.annealed == annealed:
+            fk, tk = term(state, temperature)
+            f += fk
+            tau += tk
+    return f, tau
+
+
+class StackedForces:
+    """The force terms of a :class:`ForceModel` over many samples stacked as one state.
+
+    Built by :meth:`ForceModel.stacked`. Sample ``b`` of the state takes
+    rows ``b * rows .. (b + 1) * rows - 1``; every term is stacked with
+    :func:`stack_term`, so no term relates rows of different samples.
+
+    Attributes
+    ----------
+    model : ForceModel
+    samples, rows : int
+    terms : list of ForceTerm
+    """
+
+    def __init__(self, model: ForceModel, samples: int):
+        self.model, self.samples, self.rows = model, int(samples), model.n
+        self.size = np.tile(model.size, (self.samples, 1))
+        self.ids = model.ids * self.samples
+        self.terms = [stack_term(t, self.samples, self.rows) for t in model.terms]
+
+    @property
+    def n(self) -> int:
+        """Rows of the stacked state."""
+        return self.samples * self.rows
+
+    def state(self, pos: np.ndarray, yaw: np.ndarray) -> State:
+        """The stacked :class:`State` of poses ``(samples * rows, 2)`` and ``(samples * rows,)``."""
+        return State(np.asarray(pos, dtype=float), np.asarray(yaw, dtype=float), self.size,
+                     self.model.room, self.ids, samples=self.samples)
+
+    def net(self, state: State, temperature: float = 1.0, *, annealed: bool | None = None
+            ) -> tuple[np.ndarray, np.ndarray]:
+        """As :meth:`ForceModel.net`, for every stacked sample."""
+        return _net(self.terms, state, temperature, annealed)

@@ -32,7 +32,7 @@ from forcelayout.geometry import RoomGeometry
 from forcelayout.options import SolverConfig
 from forcelayout.rules.base import State
 
-__all__ = ["SolverConfig", "SimulationResult", "simulate", "temperature"]
+__all__ = ["SolverConfig", "SimulationResult", "simulate", "simulate_batch", "temperature"]
 
 
 def temperature(step: int | np.ndarray, k: float = 0.02) -> np.ndarray | float:
@@ -132,6 +132,24 @@ def _at_rest(model: ForceModel, state: State, f: np.ndarray, tau: np.ndarray,
     return not (shapely.area(shapely.intersection(bodies[:, None], walls[None])) > 1e-9).any()
 
 
+def _bodies(model: ForceModel, world: b2World, pos: np.ndarray, yaw: np.ndarray,
+            fixed: np.ndarray, hulls: list) -> list:
+    bodies = []
+    walkable = model.walkable
+    for r in range(model.n):
+        hw, hd = (float(v) for v in model.size[r, :2] * 0.5)
+        kw = dict(position=(float(pos[r, 0]), float(pos[r, 1])), angle=float(yaw[r]),
+                  fixedRotation=False, bullet=False)
+        b = world.CreateStaticBody(**kw) if fixed[r] else world.CreateDynamicBody(**kw)
+        # walls collide with everything; furniture with furniture; covers with walls only
+        layer = _COVER if walkable[r] else _SOLID
+        shape = {"box": (hw, hd)} if hulls[r] is None else {"vertices": hulls[r]}
+        b.CreatePolygonFixture(**shape, density=1.0, friction=0.0, restitution=0.0,
+                               categoryBits=layer, maskBits=_WALLS | (0 if walkable[r] else _SOLID))
+        bodies.append(b)
+    return bodies
+
+
 def simulate(
     model: ForceModel,
     pos: np.ndarray,
@@ -143,6 +161,9 @@ def simulate(
     callback: Callable[[int, np.ndarray, np.ndarray], None] | None = None,
 ) -> SimulationResult:
     """Run the annealed force-directed simulation from the given start poses.
+
+    One sample of :func:`simulate_batch` (the same result, bit for bit, as
+    the sample gets in any batch).
 
     Parameters
     ----------
@@ -165,72 +186,131 @@ def simulate(
     -------
     SimulationResult
     """
+    n = model.n
+    each = None if callback is None else (lambda step, b, p, y: callback(step, p, y))
+    return simulate_batch(model, np.reshape(np.asarray(pos, dtype=float), (1, n, 2)),
+                          np.reshape(np.asarray(yaw, dtype=float), (1, n)), config,
+                          fixed=fixed, obstacles=obstacles, callback=each)[0]
+
+
+def simulate_batch(
+    model: ForceModel,
+    pos: np.ndarray,
+    yaw: np.ndarray,
+    config: SolverConfig | None = None,
+    *,
+    fixed: np.ndarray | None = None,
+    obstacles: list[np.ndarray] | None = None,
+    callback: Callable[[int, int, np.ndarray, np.ndarray], None] | None = None,
+) -> list[SimulationResult]:
+    """Simulate many samples of the same objects together, from their own start poses.
+
+    Each sample has its own Box2D world; the force terms are computed once
+    per step for all samples still moving (one stacked state, see
+    :meth:`ForceModel.stacked`). A sample leaves the batch once it comes to
+    rest, so a slow one holds up no other. Sample ``b``'s result is the one
+    :func:`simulate` gives it alone, bit for bit, whatever else is in the batch.
+
+    Parameters
+    ----------
+    model : ForceModel
+    pos : ndarray, shape (B, N, 2)
+    yaw : ndarray, shape (B, N)
+        Start poses of the B samples.
+    config : SolverConfig, optional
+    fixed, obstacles : optional
+        As for :func:`simulate`; the same for every sample.
+    callback : callable, optional
+        ``callback(step, b, pos, yaw)`` after every step of each moving sample ``b``.
+
+    Returns
+    -------
+    list of SimulationResult
+        One per sample, in order; ``converged`` is False for a sample that
+        hit ``max_steps`` (or whose poses stopped being finite).
+    """
     cfg = config or SolverConfig()
     n = model.n
-    pos = np.array(pos, dtype=float).reshape(n, 2)
-    yaw = np.array(yaw, dtype=float).reshape(n)
+    pos = np.array(pos, dtype=float).reshape(-1, n, 2)
+    yaw = np.array(yaw, dtype=float).reshape(-1, n)
+    count = pos.shape[0]
     fixed = np.zeros(n, dtype=bool) if fixed is None else np.asarray(fixed, dtype=bool)
-    if n == 0:
-        return SimulationResult(pos, yaw, 0, True)
-    world = _world(model.room, obstacles)
-    bodies = []
-    walkable = model.walkable
+    if n == 0 or count == 0:
+        return [SimulationResult(pos[b], yaw[b], 0, True) for b in range(count)]
     hulls = _footprints(model)
-    for r in range(n):
-        hw, hd = (float(v) for v in model.size[r, :2] * 0.5)
-        kw = dict(position=(float(pos[r, 0]), float(pos[r, 1])), angle=float(yaw[r]),
-                  fixedRotation=False, bullet=False)
-        b = world.CreateStaticBody(**kw) if fixed[r] else world.CreateDynamicBody(**kw)
-        # walls collide with everything; furniture with furniture; covers with walls only
-        layer = _COVER if walkable[r] else _SOLID
-        shape = {"box": (hw, hd)} if hulls[r] is None else {"vertices": hulls[r]}
-        b.CreatePolygonFixture(**shape, density=1.0, friction=0.0, restitution=0.0,
-                               categoryBits=layer, maskBits=_WALLS | (0 if walkable[r] else _SOLID))
-        bodies.append(b)
-    moving = [b for b, f in zip(bodies, fixed, strict=True) if not f]
+    worlds, bodies, moving = [], [], []
+    for b in range(count):
+        world = _world(model.room, obstacles)
+        bods = _bodies(model, world, pos[b], yaw[b], fixed, hulls)
+        worlds.append(world)
+        bodies.append(bods)
+        moving.append([bd for bd, f in zip(bods, fixed, strict=True) if not f])
     mv = np.flatnonzero(~fixed)
     all_moving = len(mv) == n
-    quiet = 0
-    steps = 0
-    converged = False
+    steps = np.zeros(count, dtype=int)
+    converged = np.zeros(count, dtype=bool)
+    quiet = np.zeros(count, dtype=int)
+    fs_all = np.zeros((count, n, 2))  # the annealed terms, sampled every few steps
+    ts_all = np.zeros((count, n))
     k, dt, mob, amob = cfg.k, cfg.dt, cfg.mobility, cfg.angular_mobility
     vmax, wmax = cfg.max_speed, cfg.max_turn
     vel_it, pos_it = cfg.velocity_iterations, cfg.position_iterations
     every = cfg.semantic_interval
-    state = model.state(pos, yaw)
+    active = np.arange(count)
     for t in range(cfg.max_steps):
-        if t % every == 0:
-            fs, ts = model.net(state, temperature(t, k), annealed=True)
-        fp, tp = model.net(state, 1.0, annealed=False)
-        f, tau = fs + fp, ts + tp
-        if t == 0 and _at_rest(model, state, f, tau, obstacles):
-            converged = True  # nothing acts and nothing overlaps: no step would move it
+        if not len(active):
             break
+        m = len(active)
+        forces = model.stacked(m)
+        state = forces.state(pos[active].reshape(m * n, 2), yaw[active].reshape(m * n))
+        if t % every == 0:
+            fs, ts = forces.net(state, temperature(t, k), annealed=True)
+            fs_all[active] = fs.reshape(m, n, 2)
+            ts_all[active] = ts.reshape(m, n)
+        fp, tp = forces.net(state, 1.0, annealed=False)
+        f = (fs_all[active] + fp.reshape(m, n, 2))
+        tau = (ts_all[active] + tp.reshape(m, n))
+        if t == 0:  # nothing acts and nothing overlaps: no step would move it
+            rest = np.array([_at_rest(model, state.sample(c), f[c], tau[c], obstacles)
+                             for c in range(m)])
+            if rest.any():
+                converged[active[rest]] = True
+                keep = ~rest
+                active, f, tau = active[keep], f[keep], tau[keep]
+                m = len(active)
+                if not m:
+                    break
         if not all_moving:
-            f, tau = f[mv], tau[mv]
+            f, tau = f[:, mv], tau[:, mv]
         v = f * mob
-        speed2 = (v * v).sum(1)
+        speed2 = (v * v).sum(2)
         fast = speed2 > vmax * vmax
         if fast.any():
             v[fast] *= (vmax / np.sqrt(speed2[fast]))[:, None]
         om = np.clip(tau * amob, -wmax, wmax)
-        for body, vel, w in zip(moving, v.tolist(), om.tolist(), strict=True):
-            body.linearVelocity = vel
-            body.angularVelocity = w
-        world.Step(dt, vel_it, pos_it)
-        new = np.array([(p.x, p.y, bd.angle) for bd in bodies for p in (bd.position,)])
-        dpos = np.abs(new[:, :2] - pos).max()
-        dyaw = np.abs(new[:, 2] - yaw).max()
-        pos, yaw = new[:, :2], new[:, 2]
-        state = model.state(pos, yaw)
-        steps = t + 1
+        vl, wl = v.tolist(), om.tolist()
+        new = np.empty((m, n, 3))
+        for c, b in enumerate(active.tolist()):
+            for body, vel, w in zip(moving[b], vl[c], wl[c], strict=True):
+                body.linearVelocity = vel
+                body.angularVelocity = w
+            worlds[b].Step(dt, vel_it, pos_it)
+            new[c] = [(p.x, p.y, bd.angle) for bd in bodies[b] for p in (bd.position,)]
+        old_pos, old_yaw = pos[active], yaw[active]
+        dpos = np.abs(new[:, :, :2] - old_pos).reshape(m, -1).max(1)
+        dyaw = np.abs(new[:, :, 2] - old_yaw).max(1)
+        pos[active] = new[:, :, :2]
+        yaw[active] = new[:, :, 2]
+        steps[active] = t + 1
         if callback is not None:
-            callback(steps, pos, yaw)
-        if not (np.isfinite(dpos) and np.isfinite(dyaw)):
-            break
-        quiet = quiet + 1 if (dpos < cfg.tol_pos and dyaw < cfg.tol_yaw) else 0
-        if steps >= cfg.min_steps and quiet >= cfg.patience:
-            converged = True
-            break
+            for b in active.tolist():
+                callback(t + 1, b, pos[b], yaw[b])
+        finite = np.isfinite(dpos) & np.isfinite(dyaw)
+        still = (dpos < cfg.tol_pos) & (dyaw < cfg.tol_yaw)
+        quiet[active] = np.where(still, quiet[active] + 1, 0)
+        done = (t + 1 >= cfg.min_steps) & (quiet[active] >= cfg.patience) & finite
+        converged[active[done]] = True
+        active = active[finite & ~done]
     yaw = (yaw + np.pi) % (2 * np.pi) - np.pi
-    return SimulationResult(pos, yaw, steps, converged)
+    return [SimulationResult(pos[b].copy(), yaw[b].copy(), int(steps[b]), bool(converged[b]))
+            for b in range(count)]

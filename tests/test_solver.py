@@ -123,6 +123,7 @@ def test_a_settle_that_does_not_pass_yet_goes_on_once(monkeypatch):
     """A floor still moving that fails when the settle's steps run out settles as many steps
     again; one that passes then is kept as it is."""
     from forcelayout import pipeline
+    from forcelayout.batching import drive
     from forcelayout.initial import propose_poses
     from forcelayout.verdict import FloorVerdict
 
@@ -137,10 +138,14 @@ def test_a_settle_that_does_not_pass_yet_goes_on_once(monkeypatch):
         return verdicts[-1]
 
     monkeypatch.setattr(pipeline, "judge_floor", judge)
-    res, ok = pipeline._settle(model, pos, yaw, opts, 0)
+
+    def settle():
+        return drive([pipeline._settle(model, model, pos, yaw, opts, 0)])[0]
+
+    res, ok = settle()
     assert ok and len(verdicts) == 2 and 6 < res.steps <= 12
     verdicts[:] = [FloorVerdict()]  # passes at once: one judgement, no more steps
-    res, ok = pipeline._settle(model, pos, yaw, opts, 0)
+    res, ok = settle()
     assert ok and len(verdicts) == 2 and res.steps <= 6
 
 

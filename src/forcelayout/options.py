@@ -8,6 +8,7 @@ here without importing the others.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from numbers import Integral
 from typing import Any
 
 __all__ = ["Options", "SolverConfig"]
@@ -123,6 +124,12 @@ class Options:
         Variants generated per functional area on the hierarchical path.
     variant_seed : int
         Seed of the variant library (shared by all samples of a run).
+    batch : int
+        Samples one process simulates together (the batched engine: the
+        rule and physical terms are computed once per step for all of them).
+        Layouts do not depend on it, bit for bit; larger batches save time
+        per sample and hold more in memory (a few kB per sample). 1 runs one
+        sample at a time.
     """
 
     solver: SolverConfig = field(default_factory=SolverConfig)
@@ -135,3 +142,10 @@ class Options:
     repair: int = 6
     variants: int = 6
     variant_seed: int = 0
+    batch: int = 16
+
+    def __post_init__(self) -> None:
+        if isinstance(self.batch, bool) or not isinstance(self.batch, Integral) \
+                or self.batch < 1:
+            raise ValueError(f"Options.batch must be a whole number >= 1 (samples simulated "
+                             f"together), got {self.batch!r}")

@@ -11,11 +11,13 @@ the reason, never dropped silently.
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from forcelayout.access import AccessTerm
+from forcelayout.batching import SampleTask, SimRequest, drive
 from forcelayout.forces import ForceModel, PassageTerm
 from forcelayout.hierarchy import sample_floor, scene_graph
 from forcelayout.initial import start_poses
@@ -23,11 +25,11 @@ from forcelayout.layout import Pose
 from forcelayout.options import Options
 from forcelayout.plan import Plan
 from forcelayout.repair import repair_floor
-from forcelayout.solver import SimulationResult, simulate
+from forcelayout.solver import SimulationResult
 from forcelayout.surfaces import check_surfaces, place_surfaces
 from forcelayout.verdict import allowed_misses, judge_floor
 
-__all__ = ["Placement", "realise", "prepare", "SETTLE_STARTS", "SETTLE_MIN_STEPS",
+__all__ = ["Placement", "realise", "realise_batch", "prepare", "SETTLE_STARTS", "SETTLE_MIN_STEPS",
            "START_RULE_SATISFACTION"]
 
 
@@ -90,11 +92,12 @@ def prepare(plan: Plan) -> None:
     _PREPARED[id(plan)] = plan
 
 
-def _settle(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, opts: Options, misses: int
-            ) -> tuple[SimulationResult, bool]:
+def _settle(model: ForceModel, quiet: ForceModel, pos: np.ndarray, yaw: np.ndarray,
+            opts: Options, misses: int) -> SampleTask[tuple[SimulationResult, bool]]:
     """Settle a start that passes by the rules and the physical terms alone.
 
-    At most ``SolverConfig.settle_steps`` steps: they square the objects up
+    At most ``SolverConfig.settle_steps`` steps of ``quiet`` (the model
+    without its walking-room and access terms): they square the objects up
     and press them to their walls, where the walking-room and access terms of
     the full simulation would rearrange an arrangement that needs no
     rearranging. A start that is already at rest stops after
@@ -108,19 +111,31 @@ def _settle(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, opts: Options, 
     cfg = opts.solver
     settle = replace(cfg, max_steps=cfg.settle_steps,
                      min_steps=min(cfg.min_steps, SETTLE_MIN_STEPS, cfg.settle_steps))
-    with model.without(PassageTerm, AccessTerm):
-        res = simulate(model, pos, yaw, settle)
+    res = yield SimRequest(quiet, pos, yaw, settle)
+    ok = judge_floor(model, res.pos, res.yaw, opts.check_kwargs).passes(misses)
+    if not ok and not res.converged:
+        more = yield SimRequest(quiet, res.pos, res.yaw, settle)
+        res = replace(more, steps=res.steps + more.steps)
         ok = judge_floor(model, res.pos, res.yaw, opts.check_kwargs).passes(misses)
-        if not ok and not res.converged:
-            more = simulate(model, res.pos, res.yaw, settle)
-            res = replace(more, steps=res.steps + more.steps)
-            ok = judge_floor(model, res.pos, res.yaw, opts.check_kwargs).passes(misses)
     return res, ok
 
 
-def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options
-                ) -> tuple[dict[str, Pose], int, bool, list[str]]:
-    model = ForceModel(plan, relations=opts.relations)
+@dataclass
+class _Models:
+    """The floor's force models, shared by the samples of a batch (so they batch)."""
+
+    full: ForceModel
+    quiet: ForceModel  # without the walking-room and access terms: for settling
+
+    @classmethod
+    def of(cls, plan: Plan, opts: Options) -> _Models:
+        full = ForceModel(plan, relations=opts.relations)
+        return cls(full, full.leaving_out(PassageTerm, AccessTerm))
+
+
+def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Models
+                ) -> SampleTask[tuple[dict[str, Pose], int, bool, list[str]]]:
+    model = models.full
     settle = opts.solver.settle_steps > 0 and opts.relations and model.n > 0
     # a start may leave unmet as many bindings as the sample's acceptance allows, but
     # never more than the default acceptance does: a run that accepts any sample
@@ -135,7 +150,7 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options
             continue
         if not settle:
             break
-        res, ok = _settle(model, pos0, yaw0, opts, misses)
+        res, ok = yield from _settle(model, models.quiet, pos0, yaw0, opts, misses)
         steps += res.steps
         if ok:
             settled = res
@@ -145,7 +160,7 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options
             break
     repairs: list[str] = []
     if settled is None:
-        res = simulate(model, start[0], start[1], opts.solver)
+        res = yield SimRequest(model, start[0], start[1], opts.solver)
         steps += res.steps
         pos, yaw = res.pos, res.yaw
         if opts.repair > 0 and model.n:
@@ -170,7 +185,7 @@ def realise(plan: Plan, rng: np.random.Generator, opts: Options) -> Placement:
     room-level simulation, then settled together); otherwise from one
     annealed simulation of all floor objects. The surface stage
     (:func:`forcelayout.surfaces.place_surfaces`) then places the ``on_top``,
-    wall and ceiling objects.
+    wall and ceiling objects. The same as one sample of :func:`realise_batch`.
 
     Returns
     -------
@@ -180,17 +195,39 @@ def realise(plan: Plan, rng: np.random.Generator, opts: Options) -> Placement:
         per stage (``"floor"``, ``"tops"``, ``"walls"``, ``"ceiling"``, and
         on the hierarchical path ``"variants"`` and ``"assembly"``).
     """
+    return realise_batch(plan, [rng], opts)[0]
+
+
+def realise_batch(plan: Plan, rngs: Sequence[np.random.Generator], opts: Options
+                  ) -> list[Placement]:
+    """:func:`realise` for many samples of one plan, their floors simulated together.
+
+    Sample ``k`` draws only from ``rngs[k]``, and the floor simulations of
+    all samples run as batches (:mod:`forcelayout.batching`), so each
+    placement is the one :func:`realise` gives that generator alone. The
+    ``"floor"`` stage of each placement is the batch's floor time shared
+    equally among its samples.
+    """
     prepare(plan)
-    t0 = time.perf_counter()
-    stages: dict[str, float] = {}
-    repairs: list[str] = []
     if opts.hierarchy:
-        floor, steps, converged, stages = sample_floor(plan, rng, opts)
-    else:
-        floor, steps, converged, repairs = _flat_floor(plan, rng, opts)
-        stages["floor"] = time.perf_counter() - t0
-    surf = place_surfaces(plan, floor, rng, relations=opts.relations,
-                          solver=opts.solver)
+        out = []
+        for rng in rngs:
+            floor, steps, converged, stages = sample_floor(plan, rng, opts)
+            out.append(_surfaces(plan, rng, opts, floor, steps, converged, stages, []))
+        return out
+    t0 = time.perf_counter()
+    models = _Models.of(plan, opts)
+    floors = drive([_flat_floor(plan, rng, opts, models) for rng in rngs])
+    share = (time.perf_counter() - t0) / max(len(rngs), 1)
+    return [_surfaces(plan, rng, opts, poses, steps, converged, {"floor": share}, repairs)
+            for rng, (poses, steps, converged, repairs) in zip(rngs, floors, strict=True)]
+
+
+def _surfaces(plan: Plan, rng: np.random.Generator, opts: Options, floor: dict[str, Pose],
+              steps: int, converged: bool, stages: dict[str, float], repairs: list[str]
+              ) -> Placement:
+    surf = place_surfaces(plan, floor, rng, relations=opts.relations, solver=opts.solver)
+    stages = dict(stages)
     stages.update(surf.stages)
     return Placement(surf.poses, steps + surf.steps, converged and surf.converged,
                      surf.missing, stages, repairs)

@@ -1,0 +1,244 @@
+"""The batched engine: samples simulated together give what each gives alone, bit for bit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import forcelayout as fl
+from forcelayout.forces import ForceModel
+from forcelayout.initial import start_poses
+from forcelayout.options import SolverConfig
+from forcelayout.rules import Rule, register, unregister
+from forcelayout.rules.base import State
+from forcelayout.sampling import solve_many
+from forcelayout.solver import simulate, simulate_batch
+from forcelayout.testing import check_rule, plans
+
+#: A room with two doors, a rug under a table, chairs around it and a sofa facing a TV:
+#: every kind of built-in term (access zones, door squares, windows, views, covers).
+ROOM = {
+    "name": "batch_room",
+    "room": {"polygon": [[0, 0], [4.6, 0], [4.6, 4.0], [0, 4.0]],
+             "doors": [{"wall": 0, "offset": 0.6, "width": 0.9},
+                       {"wall": 2, "offset": 0.5, "width": 0.8}],
+             "windows": [{"wall": 1, "offset": 1.4, "width": 1.2}]},
+    "objects": [
+        {"id": "sofa", "category": "sofa", "size": [2.0, 0.9, 0.85]},
+        {"id": "tv", "category": "tv stand", "size": [1.4, 0.4, 0.6]},
+        {"id": "table", "category": "dining table", "size": [1.2, 0.8, 0.75]},
+        {"id": "chair_1", "category": "chair", "size": [0.45, 0.5, 0.9]},
+        {"id": "chair_2", "category": "chair", "size": [0.45, 0.5, 0.9]},
+        {"id": "chair_3", "category": "chair", "size": [0.45, 0.5, 0.9]},
+        {"id": "rug", "category": "rug", "size": [2.0, 1.6, 0.01]},
+        {"id": "shelf", "category": "bookshelf", "size": [0.9, 0.35, 1.9]},
+        {"id": "lamp", "category": "table lamp", "size": [0.25, 0.25, 0.4]},
+    ],
+    "rules": [
+        {"rule": "at_wall", "object": "sofa"},
+        {"rule": "at_wall", "object": "tv"},
+        {"rule": "facing", "object": "sofa", "target": "tv"},
+        {"rule": "around", "object": "chair_1", "target": "table"},
+        {"rule": "around", "object": "chair_2", "target": "table"},
+        {"rule": "around", "object": "chair_3", "target": "table"},
+        {"rule": "under", "object": "rug", "target": "table"},
+        {"rule": "at_wall", "object": "shelf"},
+        {"rule": "far_from", "object": "shelf", "target": "tv", "params": {"distance": 1.0}},
+        {"rule": "on_top", "object": "lamp", "target": "shelf"},
+    ],
+}
+
+
+def _poses(layout: fl.Layout) -> list[tuple[str, float, float, float]]:
+    return sorted((k, p.x, p.y, p.yaw) for k, p in layout.poses.items())
+
+
+@pytest.mark.parametrize("plan", [ROOM, "living_room"])
+def test_a_sample_is_the_same_whatever_batch_it_runs_in(plan):
+    """Sample k of a run is the same layout, bit for bit, for batch sizes 1, 7 and 64."""
+    runs = {}
+    for batch in (1, 7, 64):
+        g = fl.generate(plan, 64, seed=5, max_attempts=64, distinct_tol=0.0,
+                        options=fl.Options(batch=batch))
+        runs[batch] = [(r.seed, r.valid, r.steps, tuple(r.failures)) for r in g.reports], \
+            [_poses(lay) for lay in g.layouts]
+    assert len(runs[1][0]) == 64
+    assert runs[7] == runs[1]
+    assert runs[64] == runs[1]
+    assert len(runs[1][1]) > 32  # most samples pass: the comparison covers real layouts
+
+
+def test_solve_many_is_solve_of_each_seed():
+    seeds = [3, 11, 2**40, 7]
+    many = solve_many(ROOM, seeds)
+    assert [lay.seed for lay in many] == seeds
+    for seed, lay in zip(seeds, many, strict=True):
+        alone = fl.solve(ROOM, seed)
+        assert _poses(lay) == _poses(alone)
+        assert lay.report.failures == alone.report.failures
+        assert lay.report.seconds > 0
+
+
+def test_solve_many_rejects_a_negative_seed():
+    with pytest.raises(ValueError, match="non-negative"):
+        solve_many(ROOM, [1, -2])
+
+
+def test_options_batch_must_be_positive():
+    with pytest.raises(ValueError, match="Options.batch"):
+        fl.Options(batch=0)
+    assert fl.Options(batch=np.int64(3)).batch == 3
+
+
+def _starts(model: ForceModel, count: int) -> tuple[np.ndarray, np.ndarray]:
+    pos, yaw = [], []
+    for s in range(count):
+        p, y, _ = next(iter(start_poses(model, np.random.default_rng(s), misses=99)))
+        pos.append(p)
+        yaw.append(y)
+    return np.stack(pos), np.stack(yaw)
+
+
+def test_simulate_batch_gives_each_sample_its_own_result():
+    model = ForceModel(fl.load_plan(ROOM))
+    pos, yaw = _starts(model, 5)
+    together = simulate_batch(model, pos, yaw)
+    for b in range(5):
+        alone = simulate(model, pos[b], yaw[b])
+        assert np.array_equal(together[b].pos, alone.pos)
+        assert np.array_equal(together[b].yaw, alone.yaw)
+        assert (together[b].steps, together[b].converged) == (alone.steps, alone.converged)
+
+
+def test_a_sample_at_the_step_cap_says_so_and_holds_up_no_other():
+    model = ForceModel(fl.load_plan(ROOM))
+    pos, yaw = _starts(model, 3)
+    cfg = SolverConfig(max_steps=30, min_steps=1)
+    res = simulate_batch(model, pos, yaw, cfg)
+    for r in res:
+        assert r.steps <= 30
+        assert r.converged == (r.steps < 30)
+    # a sample already at rest leaves at once; the others go on
+    at_rest = simulate_batch(model, np.stack([res[0].pos, pos[1]]),
+                             np.stack([res[0].yaw, yaw[1]]), cfg)
+    assert at_rest[1].steps == res[1].steps
+
+
+def test_the_stacked_forces_are_each_samples_own():
+    model = ForceModel(fl.load_plan(ROOM))
+    pos, yaw = _starts(model, 4)
+    stack = model.stacked(4)
+    state = stack.state(pos.reshape(-1, 2), yaw.reshape(-1))
+    f, tau = stack.net(state)
+    n = model.n
+    for b in range(4):
+        f1, t1 = model.net(model.state(pos[b], yaw[b]))
+        assert np.array_equal(f[b * n:(b + 1) * n], f1)
+        assert np.array_equal(tau[b * n:(b + 1) * n], t1)
+    assert model.stacked(1) is model
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(plan=plans(max_objects=6), count=st.integers(2, 5), seed=st.integers(0, 2**16))
+def test_random_plans_batch_like_single_samples(plan, count, seed):
+    model = ForceModel(plan)
+    if model.n == 0:
+        return
+    rng = np.random.default_rng(seed)
+    lo, hi = model.room.bounds[:2], model.room.bounds[2:]
+    pos = rng.uniform(lo, hi, (count, model.n, 2))
+    yaw = rng.uniform(-np.pi, np.pi, (count, model.n))
+    cfg = SolverConfig(max_steps=25)
+    together = simulate_batch(model, pos, yaw, cfg)
+    for b in range(count):
+        alone = simulate(model, pos[b], yaw[b], cfg)
+        assert np.array_equal(together[b].pos, alone.pos, equal_nan=True)
+        assert together[b].steps == alone.steps
+
+
+class _Crowd(Rule):
+    """A plugin written against the one-sample API: reads the all-pairs matrix."""
+
+    target = "none"
+
+    def force(self, state, i, j, p):
+        sep = state.separations  # every pair: one sample only
+        near = (sep < 0.5).sum(1)[i] - 1.0
+        f = np.zeros((len(i), 2))
+        f[:, 0] = 0.1 * near * p.weight
+        return f, np.zeros(len(i))
+
+    def satisfied(self, state, i, j, p):
+        return np.ones(len(i), dtype=bool)
+
+
+def test_a_plugin_rule_that_is_not_batched_runs_once_per_sample():
+    assert not _Crowd.batched
+    register("crowd_test")(_Crowd)
+    try:
+        plan = {**ROOM, "rules": ROOM["rules"] + [{"rule": "crowd_test", "object": "shelf"}]}
+        model = ForceModel(fl.load_plan(plan))
+        pos, yaw = _starts(model, 3)
+        stack = model.stacked(3)
+        f, _ = stack.net(stack.state(pos.reshape(-1, 2), yaw.reshape(-1)))
+        for b in range(3):
+            f1, _ = model.net(model.state(pos[b], yaw[b]))
+            assert np.array_equal(f[b * model.n:(b + 1) * model.n], f1)
+        a = solve_many(plan, [1, 2])
+        assert [_poses(x) for x in a] == [_poses(fl.solve(plan, s)) for s in (1, 2)]
+    finally:
+        unregister("crowd_test")
+
+
+def test_a_subclass_with_its_own_force_is_not_batched_unless_it_says_so():
+    from forcelayout.rules.binary import Near
+
+    class MyNear(Near):
+        def force(self, state, i, j, p):
+            return super().force(state, i, j, p)
+
+    class MyBatchedNear(Near):
+        batched = True
+
+        def force(self, state, i, j, p):
+            return super().force(state, i, j, p)
+
+    assert Near.batched and not MyNear.batched and MyBatchedNear.batched
+
+
+def test_the_all_pairs_matrices_refuse_a_stacked_state():
+    model = ForceModel(fl.load_plan(ROOM))
+    pos, yaw = _starts(model, 2)
+    state = model.stacked(2).state(pos.reshape(-1, 2), yaw.reshape(-1))
+    assert isinstance(state, State) and state.samples == 2 and state.rows == model.n
+    with pytest.raises(ValueError, match="separation"):
+        _ = state.separations
+    i = np.array([0, model.n])
+    assert np.array_equal(state.peers(i)[1], np.arange(model.n, 2 * model.n))
+
+
+@pytest.mark.parametrize("name", ["near", "facing", "around", "at_wall", "under"])
+def test_check_rule_checks_a_batched_rule_on_stacked_samples(name):
+    assert check_rule(name, n_states=4, steps=5)["rule"] == name
+
+
+def test_check_rule_catches_a_rule_that_claims_batched_wrongly():
+    from forcelayout.testing import RuleConformanceError
+
+    class Wrong(_Crowd):
+        batched = True
+
+        def force(self, state, i, j, p):
+            near = (state.pos[:, None, 0] - state.pos[None, :, 0]) ** 2  # every row
+            f = np.zeros((len(i), 2))
+            f[:, 0] = 0.01 * near.sum(1)[i] * p.weight
+            return f, np.zeros(len(i))
+
+    register("wrong_batched_test")(Wrong)
+    try:
+        with pytest.raises(RuleConformanceError, match="batched"):
+            check_rule("wrong_batched_test", n_states=3, steps=2)
+    finally:
+        unregister("wrong_batched_test")

@@ -11,7 +11,7 @@ import json
 import math
 import os
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Executor, ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -44,6 +44,26 @@ class Sample:
     def good(self) -> bool:
         """Valid and meeting at least :data:`GOOD_RULES` of its rules."""
         return self.valid and self.rule_satisfaction >= GOOD_RULES
+
+
+def raw_samples(plan: fl.Plan, seed: int, count: int, batch: int
+                ) -> Iterator[tuple[fl.Layout, float]]:
+    """Samples ``0 .. count - 1`` of a run with ``seed``, ``batch`` at a time, and CPU seconds.
+
+    Each batch is one :func:`forcelayout.sampling.solve_many` call (the
+    batched engine, as :func:`forcelayout.generate` runs a long run); each
+    layout comes with its share of its batch's CPU time. On a version of
+    the library without ``solve_many`` (an A/B run against an older commit)
+    every sample is one :func:`forcelayout.solve`.
+    """
+    many = getattr(fl.sampling, "solve_many", None)
+    for first in range(0, count, batch if many is not None else 1):
+        seeds = [sample_seed(seed, k) for k in range(first, min(count, first + batch))]
+        t0 = time.process_time()
+        layouts = many(plan, seeds) if many is not None else [fl.solve(plan, seeds[0])]
+        share = (time.process_time() - t0) / len(layouts)
+        for lay in layouts:
+            yield lay, share
 
 
 def draw(plan: fl.Plan, condition: str, seed: int) -> Sample:

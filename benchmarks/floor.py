@@ -2,12 +2,14 @@
 
 For each plan (default: every ``benchmarks/plans/*.json``), in one worker
 process, ``--samples`` raw samples ``forcelayout.solve(plan, sample_seed(seed,
-k))`` (no retries, no dedup), and for each sample a bare Box2D loop measured in
-the same process: a zero-gravity world with as many dynamic boxes as the plan
-has floor objects, stepped as many times as the sample stepped, a force and a
-torque applied to and the pose read back from every body at every step. That
-loop is what the physics alone costs; the ratio of the two says how much the
-library spends around it (rules, start poses, checks, surfaces).
+k))`` (no retries, no dedup), simulated ``--batch`` at a time as ``generate``
+runs them (each sample's time is its share of its batch's), and for each
+sample a bare Box2D loop measured in the same process: a zero-gravity world
+with as many dynamic boxes as the plan has floor objects, stepped as many
+times as the sample stepped, a force and a torque applied to and the pose
+read back from every body at every step. That loop is what the physics alone
+costs; the ratio of the two says how much the library spends around it
+(rules, start poses, checks, surfaces).
 
 Printed per plan and overall (JSON; ``--markdown`` adds a table): ms per raw
 sample, mean steps, floor bodies, the bare loop's ms per sample, their ratio,
@@ -21,7 +23,8 @@ layouts/s over the suite.
 Usage::
 
     python benchmarks/floor.py [--plans living_room plans/] [--samples 30]
-        [--baseline-tries 2000] [--jobs 2] [--quick] [--markdown] [--out floor.json]
+        [--baseline-tries 2000] [--batch 16] [--jobs 2] [--quick] [--markdown]
+        [--out floor.json]
 """
 
 from __future__ import annotations
@@ -38,7 +41,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _common import dump, jsonable  # noqa: E402
+from _common import dump, jsonable, raw_samples  # noqa: E402
 from suite import (  # noqa: E402
     GOOD_RULES,
     add_plan_arguments,
@@ -50,7 +53,6 @@ import forcelayout as fl  # noqa: E402
 from forcelayout.baselines import rejection_sample  # noqa: E402
 from forcelayout.forces import ForceModel  # noqa: E402
 from forcelayout.options import SolverConfig  # noqa: E402
-from forcelayout.sampling import sample_seed  # noqa: E402
 
 #: Targets: largest ratio on plans of FLOOR_RANGE floor objects, good layouts/s/core on the
 #: bundled living room, and the speed ratio to the baseline over the suite.
@@ -84,7 +86,8 @@ def bare_loop(bodies: int, steps: int, seed: int = 0) -> float:
     return time.process_time() - t0
 
 
-def bench_plan(source: str, samples: int, tries: int, seed: int) -> dict[str, Any]:
+def bench_plan(source: str, samples: int, tries: int, seed: int, batch: int
+               ) -> dict[str, Any]:
     """One plan: raw samples timed beside their bare loops, and the baseline."""
     plan = fl.load_plan(source)
     floor = ForceModel(plan).n  # the bodies of the floor simulation
@@ -93,10 +96,8 @@ def bench_plan(source: str, samples: int, tries: int, seed: int) -> dict[str, An
     cpu = bare = 0.0
     steps: list[int] = []
     good = 0
-    for k in range(samples):
-        t0 = time.process_time()
-        lay = fl.solve(plan, sample_seed(seed, k))
-        cpu += time.process_time() - t0
+    for k, (lay, seconds) in enumerate(raw_samples(plan, seed, samples, batch)):
+        cpu += seconds
         rep = lay.report
         steps.append(rep.steps)
         ok = not [f for f in rep.failures if not f.startswith("rules:")]
@@ -180,7 +181,7 @@ def main(argv: list[str] | None = None) -> None:
     add_plan_arguments(ap, "raw samples per plan (default 30)")
     args = parse_plan_arguments(ap, argv)
     sources = resolve_plans(args.plans)
-    task = (args.samples, args.baseline_tries, args.seed)
+    task = (args.samples, args.baseline_tries, args.seed, args.batch)
     t0 = time.perf_counter()
     if args.jobs <= 1 or len(sources) <= 1:
         rows = [bench_plan(s, *task) for s in sources]

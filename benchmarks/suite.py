@@ -4,7 +4,9 @@ For each plan (default: every ``benchmarks/plans/*.json``; the bundled plans
 when that folder is empty), in one worker process:
 
 * **forcelayout** — ``--samples`` raw samples ``forcelayout.solve(plan,
-  sample_seed(seed, k))``; a sample is *good* when it passes the
+  sample_seed(seed, k))``, simulated ``--batch`` at a time
+  (``forcelayout.sampling.solve_many``, as ``generate`` runs them; the
+  layouts do not depend on it); a sample is *good* when it passes the
   deterministic checks AND meets >= 95 % of its rules. Reported: good yield
   per raw sample, good layouts per CPU second of one core, the geometric and
   topological intra-plan diversity of the good layouts
@@ -23,7 +25,7 @@ and >= 3 x over the suite. A plan that fails to load or run is an error row.
 Usage::
 
     python benchmarks/suite.py [--plans bedroom living_room my_plans/ x.json]
-        [--samples 30] [--baseline-tries 2000] [--jobs 2] [--quick]
+        [--samples 30] [--baseline-tries 2000] [--batch 16] [--jobs 2] [--quick]
         [--markdown] [--out suite.json]
 """
 
@@ -44,13 +46,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _common import default_jobs, dump, jsonable  # noqa: E402
+from _common import default_jobs, dump, jsonable, raw_samples  # noqa: E402
 
 import forcelayout as fl  # noqa: E402
 from forcelayout import metrics  # noqa: E402
 from forcelayout import rules as registry  # noqa: E402
 from forcelayout.baselines import rejection_sample  # noqa: E402
-from forcelayout.sampling import sample_seed  # noqa: E402
 
 PLANS_DIR = Path(__file__).resolve().parent / "plans"
 #: A sample that passes the checks and meets at least this fraction of its rules is good.
@@ -84,16 +85,17 @@ def diversity(layouts: list[fl.Layout], pairs_of: int) -> dict[str, float | None
             for m in ("geometric", "topological")}
 
 
-def run_forcelayout(plan: fl.Plan, samples: int, seed: int, pairs_of: int) -> dict[str, Any]:
+def run_forcelayout(plan: fl.Plan, samples: int, seed: int, pairs_of: int, batch: int
+                    ) -> dict[str, Any]:
     """Raw samples of the method, judged as the baseline is judged."""
     fl.solve(plan, 2**62)  # warm imports and caches outside the measured samples
     good: list[fl.Layout] = []
     checks_ok = rules = repaired = 0
     repaired_known = False
     reasons: Counter[str] = Counter()
-    t0 = time.process_time()
-    for k in range(samples):
-        lay = fl.solve(plan, sample_seed(seed, k))
+    cpu = 0.0
+    for lay, seconds in raw_samples(plan, seed, samples, batch):
+        cpu += seconds
         rep = lay.report
         failures = [f for f in rep.failures if not f.startswith("rules:")]
         ok = not failures
@@ -106,7 +108,6 @@ def run_forcelayout(plan: fl.Plan, samples: int, seed: int, pairs_of: int) -> di
         if flag is not None:
             repaired_known = True
             repaired += bool(flag)
-    cpu = time.process_time() - t0
     return {
         "samples": samples,
         "good": len(good),
@@ -160,7 +161,7 @@ def plan_targets(row: dict[str, Any]) -> dict[str, bool | None]:
     return out
 
 
-def bench_plan(source: str, samples: int, tries: int, seed: int, pairs_of: int
+def bench_plan(source: str, samples: int, tries: int, seed: int, pairs_of: int, batch: int
                ) -> dict[str, Any]:
     """Everything measured on one plan; an error becomes an error row."""
     try:
@@ -170,7 +171,7 @@ def bench_plan(source: str, samples: int, tries: int, seed: int, pairs_of: int
             "source": source,
             "objects": len(plan.objects),
             "fill_pct": 100.0 * floor_fill(plan),
-            "forcelayout": run_forcelayout(plan, samples, seed, pairs_of),
+            "forcelayout": run_forcelayout(plan, samples, seed, pairs_of, batch),
             "baseline": run_baseline(plan, samples, tries, seed, pairs_of),
         }
         row["targets"] = plan_targets(row)
@@ -203,7 +204,7 @@ def resolve_plans(specs: list[str] | None) -> list[str]:
 
 
 def run_all(sources: list[str], args: argparse.Namespace) -> list[dict[str, Any]]:
-    task = (args.samples, args.baseline_tries, args.seed, args.pairs_of)
+    task = (args.samples, args.baseline_tries, args.seed, args.pairs_of, args.batch)
     if args.jobs <= 1 or len(sources) <= 1:
         return [bench_plan(s, *task) for s in sources]
     rows: list[dict[str, Any]] = []
@@ -365,6 +366,9 @@ def add_plan_arguments(ap: argparse.ArgumentParser, samples_help: str) -> None:
     ap.add_argument("--baseline-tries", type=int, default=2000,
                     help="most tries of the rejection baseline per plan (default 2000)")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--batch", type=int, default=fl.Options().batch,
+                    help="forcelayout samples simulated together (default "
+                         f"{fl.Options().batch}, as generate runs them)")
     ap.add_argument("--jobs", type=int, default=None,
                     help=f"worker processes over plans (default {default_jobs()})")
     ap.add_argument("--quick", action="store_true",
@@ -374,7 +378,7 @@ def add_plan_arguments(ap: argparse.ArgumentParser, samples_help: str) -> None:
 
 
 def parse_plan_arguments(ap: argparse.ArgumentParser, argv: list[str] | None,
-                         counts: tuple[str, ...] = ("samples", "baseline_tries")
+                         counts: tuple[str, ...] = ("samples", "baseline_tries", "batch")
                          ) -> argparse.Namespace:
     """Parse, apply ``--quick``, refuse ``counts`` below 1 and fill in ``--jobs``."""
     args = ap.parse_args(argv)
@@ -396,7 +400,7 @@ def main(argv: list[str] | None = None) -> None:
                            "asked for (default 30)")
     ap.add_argument("--pairs-of", type=int, default=30,
                     help="diversity over at most this many good layouts per plan (default 30)")
-    args = parse_plan_arguments(ap, argv, ("samples", "baseline_tries", "pairs_of"))
+    args = parse_plan_arguments(ap, argv, ("samples", "baseline_tries", "pairs_of", "batch"))
     sources = resolve_plans(args.plans)
     t0 = time.perf_counter()
     rows = run_all(sources, args)

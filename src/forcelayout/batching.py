@@ -1,13 +1,17 @@
 """The batched engine: samples as coroutines whose simulations run together.
 
 Each sample of a run is written as ordinary sequential code, a generator
-that ``yield``\\ s a :class:`SimRequest` wherever it needs a simulation and
-receives the :class:`~forcelayout.solver.SimulationResult` back (drawing
-start poses, judging and repairing in between). :func:`drive` runs many
-such samples side by side: at each round it gathers the requests of every
-sample still running, groups those of the same force model and solver
-settings, and runs each group as one :func:`~forcelayout.solver.simulate_batch`
-(the rule and physical terms computed once per step for the whole group).
+that ``yield``\\ s a request wherever it needs expensive, batchable work and
+receives the answer back: a :class:`SimRequest` for a simulation (answered
+with its :class:`~forcelayout.solver.SimulationResult`), a
+:class:`forcelayout.initial.ProposeRequest` for a set of start poses.
+:func:`drive` runs many such samples side by side: at each round it gathers
+the requests of every sample still running, groups those of the same kind
+and ``key()`` (the same force model and solver settings; the same model's
+candidate drawer) and answers each group with one call of the kind's
+``run(requests)``: one :func:`~forcelayout.solver.simulate_batch` (the rule
+and physical terms computed once per step for the whole group), or start
+poses placed for the whole group object by object.
 
 A sample's result depends on its own random generator and requests only,
 and :func:`~forcelayout.solver.simulate_batch` gives each sample what it
@@ -17,7 +21,7 @@ batch it ran in.
 
 from __future__ import annotations
 
-from collections.abc import Generator, Sequence
+from collections.abc import Generator, Hashable, Sequence
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
@@ -51,9 +55,20 @@ class SimRequest:
     yaw: np.ndarray
     config: SolverConfig
 
+    def key(self) -> Hashable:
+        """Requests with equal keys run as one batch."""
+        return (id(self.model), self.config)
 
-#: A sample written as a generator: yields requests, receives results, returns its outcome.
-SampleTask = Generator[SimRequest, SimulationResult, T]
+    @staticmethod
+    def run(requests: list[SimRequest]) -> list[SimulationResult]:
+        """One :func:`~forcelayout.solver.simulate_batch` of requests with the same key."""
+        first = requests[0]
+        return simulate_batch(first.model, np.stack([r.pos for r in requests]),
+                              np.stack([r.yaw for r in requests]), first.config)
+
+
+#: A sample written as a generator: yields requests, receives answers, returns its outcome.
+SampleTask = Generator[Any, Any, T]
 
 
 def drive(tasks: Sequence[SampleTask[T]]) -> list[T]:
@@ -62,8 +77,9 @@ def drive(tasks: Sequence[SampleTask[T]]) -> list[T]:
     Parameters
     ----------
     tasks : sequence of generator
-        Each yields :class:`SimRequest` and is sent the result of each;
-        what it returns is its outcome.
+        Each yields requests (objects with ``key()`` and a static
+        ``run(requests) -> answers``, such as :class:`SimRequest`) and is
+        sent the answer to each; what it returns is its outcome.
 
     Returns
     -------
@@ -71,25 +87,23 @@ def drive(tasks: Sequence[SampleTask[T]]) -> list[T]:
         The tasks' outcomes, in order.
     """
     outcomes: list[Any] = [None] * len(tasks)
-    pending: dict[int, SimRequest] = {}
+    pending: dict[int, Any] = {}
 
-    def advance(k: int, result: SimulationResult | None) -> None:
+    def advance(k: int, answer: Any) -> None:
         try:
-            pending[k] = tasks[k].send(result)  # type: ignore[arg-type]
+            pending[k] = tasks[k].send(answer)
         except StopIteration as stop:
             outcomes[k] = stop.value
 
     for k in range(len(tasks)):
         advance(k, None)
     while pending:
-        groups: dict[tuple[int, SolverConfig], list[int]] = {}
+        groups: dict[tuple[type, Hashable], list[int]] = {}
         for k, req in pending.items():
-            groups.setdefault((id(req.model), req.config), []).append(k)
+            groups.setdefault((type(req), req.key()), []).append(k)
         asked, pending = pending, {}
-        for ks in groups.values():
-            reqs = [asked[k] for k in ks]
-            results = simulate_batch(reqs[0].model, np.stack([r.pos for r in reqs]),
-                                     np.stack([r.yaw for r in reqs]), reqs[0].config)
-            for k, res in zip(ks, results, strict=True):
-                advance(k, res)
+        for (kind, _), ks in groups.items():
+            answers = kind.run([asked[k] for k in ks])
+            for k, answer in zip(ks, answers, strict=True):
+                advance(k, answer)
     return outcomes

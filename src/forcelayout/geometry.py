@@ -314,6 +314,10 @@ class Openings:
         return self.centre + self.tangent * self.width[:, None] * 0.5
 
 
+#: RoomGeometry.from_room's cache: id of a plan's room -> (the room, its geometry).
+_ROOMS: dict[int, tuple[Room, RoomGeometry]] = {}
+
+
 class RoomGeometry:
     """A room's floor polygon, walls and openings as numpy arrays.
 
@@ -360,13 +364,21 @@ class RoomGeometry:
 
     @classmethod
     def from_room(cls, room: Room) -> RoomGeometry:
-        """Build from a :class:`forcelayout.plan.Room`."""
-        return cls(
+        """Build from a :class:`forcelayout.plan.Room` (once per room object: the arrays and
+        their derived caches are shared by every layout of a plan)."""
+        hit = _ROOMS.get(id(room))
+        if hit is not None and hit[0] is room:
+            return hit[1]
+        out = cls(
             np.asarray(room.polygon, dtype=float),
             room.height,
             [(d.wall, d.offset, d.width) for d in room.doors],
             [(w.wall, w.offset, w.width) for w in room.windows],
         )
+        if len(_ROOMS) > 64:
+            _ROOMS.clear()
+        _ROOMS[id(room)] = (room, out)
+        return out
 
     def _openings(self, items: list[tuple[int, float, float]]) -> Openings:
         if not items:

@@ -20,12 +20,14 @@ import numpy as np
 import shapely
 
 from forcelayout import geometry as geo
+from forcelayout.batching import SampleTask, drive
 from forcelayout.clearance import WindowTerm
 from forcelayout.forces import ForceModel, RuleGroup
-from forcelayout.rules.base import ParamArrays
+from forcelayout.rules.base import ParamArrays, State
 from forcelayout.verdict import FloorVerdict, judge_floor
 
-__all__ = ["parents", "initial_poses", "start_poses", "propose_poses", "relocate"]
+__all__ = ["parents", "initial_poses", "start_poses", "propose_poses", "relocate", "Starts",
+           "ProposeRequest"]
 
 #: Start places beside the parent, where wall length is kept free next to it.
 _SIDE_PLACES = frozenset({"beside", "left", "right"})
@@ -402,10 +404,13 @@ def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: in
     """How many of object ``r``'s bindings each candidate pose misses, by the rules' own checks.
 
     Every binding the object takes part in (as object or as target) whose
-    other object is placed already is judged. Shape (K,).
+    other object is placed already is judged. Candidates (B, K, 2) and
+    (B, K) of B samples with poses (B, N, 2) and (B, N); each sample's
+    candidates are judged against its own objects (one stacked state, a
+    rule that is not ``batched`` once per sample). Shape (B, K).
     """
-    k = len(cand)
-    unmet = np.zeros(k)
+    nb, k = cyaw.shape
+    unmet = np.zeros((nb, k))
     done = set(placed)
 
     def other(g: RuleGroup, b: int) -> int:  # the binding's other object, -1 for the room
@@ -418,20 +423,31 @@ def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: in
         return unmet
     rows = list(placed)
     at = {p: q for q, p in enumerate(rows)}
-    state = model.state(np.concatenate([pos[rows], cand]),
-                        np.concatenate([yaw[rows], cyaw]))
-    state.size = np.concatenate([model.size[rows], np.repeat(model.size[r:r + 1], k, 0)])
-    me = np.arange(len(rows), len(rows) + k)
+    m = len(rows) + k  # rows of each sample's state: the placed objects, then the candidates
+    size = np.concatenate([model.size[rows], np.repeat(model.size[r:r + 1], k, 0)])
+    state = State(np.concatenate([pos[:, rows], cand], axis=1).reshape(nb * m, 2),
+                  np.concatenate([yaw[:, rows], cyaw], axis=1).reshape(nb * m),
+                  np.tile(size, (nb, 1)), model.room, model.ids, samples=nb)
+    base = np.repeat(np.arange(nb) * m, k)  # (B K,) first row of each candidate's sample
+    me = base + np.tile(np.arange(len(rows), m), nb)
     for g, b in judged:
         if g.j is None:
             i, j = me, None
         elif int(g.i[b]) == r:  # this object is the binding's object
-            i, j = me, np.full(k, at[other(g, b)])
+            i, j = me, base + at[other(g, b)]
         else:  # this object is the binding's target
-            i, j = np.full(k, at[other(g, b)]), me
-        p = ParamArrays({f: np.repeat(v[b:b + 1], k) for f, v in g.params._fields.items()},
-                        np.repeat(g.params.weight[b:b + 1], k))
-        unmet += ~np.asarray(g.rule.satisfied(state, i, j, p), dtype=bool)
+            i, j = base + at[other(g, b)], me
+        p = ParamArrays({f: np.repeat(v[b:b + 1], nb * k) for f, v in g.params._fields.items()},
+                        np.repeat(g.params.weight[b:b + 1], nb * k))
+        if g.rule.batched or nb == 1:
+            ok = g.rule.satisfied(state, i, j, p)
+        else:  # a rule that sees one sample at a time
+            one = ParamArrays({f: v[:k] for f, v in p._fields.items()}, p.weight[:k])
+            ok = np.concatenate([
+                np.asarray(g.rule.satisfied(state.sample(s), i[:k], None if j is None
+                                            else j[:k], one), dtype=bool)
+                for s in range(nb)])
+        unmet += ~np.asarray(ok, dtype=bool).reshape(nb, k)
     return unmet
 
 
@@ -490,27 +506,62 @@ def start_poses(
     yaw : ndarray, shape (N,)
     verdict : FloorVerdict
     """
-    if model.n == 0:
-        yield np.zeros((0, 2)), np.zeros(0), FloorVerdict()
-        return
-    placer = _Placer(model)
-    for _ in range(max(1, restarts)):
-        pos = np.zeros((model.n, 2))
+    starts = Starts(model, rng, tries=tries, spread=spread, restarts=restarts, fixes=fixes,
+                    misses=misses)
+    while True:
+        got = drive([starts.next()])[0]
+        if got is None:
+            return
+        yield got
+
+
+class Starts:
+    """The starts of one sample, one at a time: what :func:`start_poses` yields.
+
+    :meth:`next` is a sample task (:mod:`forcelayout.batching`): it asks for
+    each set of start poses with a :class:`ProposeRequest`, so the samples of
+    a batch that draw a start at the same time draw them together. Give the
+    samples of a batch the same ``placer`` (:meth:`placer_of`) for that.
+    """
+
+    def __init__(self, model: ForceModel, rng: np.random.Generator, *,
+                 placer: _Placer | None = None, tries: int = 16, spread: float = 0.3,
+                 restarts: int = 32, fixes: int = 2, misses: int = 0):
+        self.model, self.rng = model, rng
+        self.placer = placer if placer is not None or model.n == 0 else _Placer(model)
+        self.tries, self.spread, self.fixes, self.misses = tries, spread, fixes, misses
+        self.left = max(1, restarts)
+
+    @staticmethod
+    def placer_of(model: ForceModel) -> _Placer:
+        """The candidate drawer of a model, to share among the samples of a batch."""
+        return _Placer(model)
+
+    def next(self) -> SampleTask[tuple[np.ndarray, np.ndarray, FloorVerdict] | None]:
+        """The next start ``(pos, yaw, verdict)``, or None once ``restarts`` are drawn."""
+        model, rng = self.model, self.rng
+        if self.left <= 0:
+            return None
+        if model.n == 0:
+            self.left = 0
+            return np.zeros((0, 2)), np.zeros(0), FloorVerdict()
+        self.left -= 1
+        placer = self.placer
         yaw = rng.uniform(-np.pi, np.pi, model.n)
-        pos, yaw = _propose(model, placer, rng, pos, yaw, tries, spread)
+        pos, yaw = yield ProposeRequest(placer, rng, yaw, self.tries, self.spread)
         verdict = _judge(model, pos, yaw)
-        for f in range(max(0, fixes)):
-            if verdict.passes(misses) or not verdict.at_fault:
+        for f in range(max(0, self.fixes)):
+            if verdict.passes(self.misses) or not verdict.at_fault:
                 break
             rows = np.zeros(model.n, dtype=bool)
             rows[sorted(verdict.at_fault)] = True
             rows = _movers(placer.parent, rows, with_parents=f % 2 == 1)  # parents: 2nd time
-            p2, y2 = _relocate(model, placer, np.flatnonzero(rows), pos, yaw, rng, tries,
-                               spread)
+            p2, y2 = _relocate(model, placer, np.flatnonzero(rows), pos, yaw, rng, self.tries,
+                               self.spread)
             again = _judge(model, p2, y2)
             if len(again.failures) < len(verdict.failures):
                 pos, yaw, verdict = p2, y2, again
-        yield pos, yaw, verdict
+        return pos, yaw, verdict
 
 
 def _movers(parent: np.ndarray, rows: np.ndarray, *, with_parents: bool = False
@@ -566,16 +617,55 @@ def propose_poses(
     yaw = rng.uniform(-np.pi, np.pi, n)
     if n == 0:
         return pos, yaw
-    return _propose(model, _Placer(model), rng, pos, yaw, tries, spread)
+    pos, yaw = _propose(_Placer(model), [rng], pos[None], yaw[None], tries, spread)
+    return pos[0], yaw[0]
 
 
-def _propose(model: ForceModel, placer: _Placer, rng: np.random.Generator, pos: np.ndarray,
+def _propose(placer: _Placer, rngs: list[np.random.Generator], pos: np.ndarray,
              yaw: np.ndarray, tries: int, spread: float) -> tuple[np.ndarray, np.ndarray]:
+    """Place every row of each sample (poses (B, N, 2) and (B, N)), parents first."""
     placed: list[int] = []
     for r in placer.order:
-        placer.place(r, placed, pos, yaw, rng, tries, spread)
+        placer.place(r, placed, pos, yaw, rngs, tries, spread)
         placed.append(r)
     return pos, yaw
+
+
+@dataclass
+class ProposeRequest:
+    """A sample's ask for one set of start poses (:func:`propose_poses`), batched by
+    :func:`forcelayout.batching.drive` with the asks of other samples of the same model.
+
+    Attributes
+    ----------
+    placer : _Placer
+        The model's candidate drawer; requests of the same one run as one batch.
+    rng : numpy.random.Generator
+        The sample's generator (each sample draws from its own only).
+    yaw : ndarray, shape (N,)
+        Headings before placing (kept where an object's draw sets none).
+    tries, spread
+        As for :func:`propose_poses`.
+    """
+
+    placer: _Placer
+    rng: np.random.Generator
+    yaw: np.ndarray
+    tries: int
+    spread: float
+
+    def key(self) -> tuple:
+        return (id(self.placer), self.tries, self.spread)
+
+    @staticmethod
+    def run(requests: list[ProposeRequest]) -> list[tuple[np.ndarray, np.ndarray]]:
+        first = requests[0]
+        n = first.placer.model.n
+        pos = np.zeros((len(requests), n, 2))
+        yaw = np.stack([q.yaw for q in requests]).reshape(len(requests), n)
+        pos, yaw = _propose(first.placer, [q.rng for q in requests], pos, yaw, first.tries,
+                            first.spread)
+        return [(pos[b], yaw[b]) for b in range(len(requests))]
 
 
 def relocate(model: ForceModel, rows: list[int] | np.ndarray, pos: np.ndarray, yaw: np.ndarray,
@@ -599,14 +689,14 @@ def relocate(model: ForceModel, rows: list[int] | np.ndarray, pos: np.ndarray, y
 def _relocate(model: ForceModel, placer: _Placer, rows: list[int] | np.ndarray,
               pos: np.ndarray, yaw: np.ndarray, rng: np.random.Generator, tries: int,
               spread: float) -> tuple[np.ndarray, np.ndarray]:
-    pos, yaw = pos.copy(), yaw.copy()
+    pos, yaw = pos[None].copy(), yaw[None].copy()
     moving = {int(r) for r in rows}
     placed = [r for r in range(model.n) if r not in moving]
     for r in placer.order:
         if r in moving:
-            placer.place(r, placed, pos, yaw, rng, tries, spread)
+            placer.place(r, placed, pos, yaw, [rng], tries, spread)
             placed.append(r)
-    return pos, yaw
+    return pos[0], yaw[0]
 
 
 class _Placer:
@@ -645,29 +735,33 @@ class _Placer:
     def _clearance(self, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray, ext: np.ndarray,
                    solid: list[int], slack: np.ndarray, pos: np.ndarray, yaw: np.ndarray,
                    doors: bool) -> tuple[np.ndarray, np.ndarray]:
-        """Whether footprints of half extent ``ext`` at the candidates lie inside the floor,
-        and their clearance (at most 0.3 m) to the ``solid`` rows and the door swing squares
-        (what the door check asks; the simulation keeps a deeper entry zone free)."""
+        """Whether footprints of half extent ``ext`` at the candidates (B, K, 2) lie inside
+        the floor, and their clearance (at most 0.3 m) to the ``solid`` rows of their sample
+        and the door swing squares (what the door check asks; the simulation keeps a deeper
+        entry zone free); both (B, K)."""
         hr, hf = rgt * ext[0], fwd * ext[1]
         corners = np.stack([cand - hr - hf, cand + hr - hf, cand + hr + hf, cand - hr + hf],
-                           axis=1)
-        inside = shapely.contains(self.floor, shapely.polygons(corners))
-        clear = np.full(len(cand), 0.3)
+                           axis=2)
+        bk = cand.shape[:2]
+        inside = shapely.contains(self.floor, shapely.polygons(corners.reshape(-1, 4, 2)))
+        inside = inside.reshape(bk)
+        clear = np.full(bk, 0.3)
         if solid:
-            oy = yaw[solid]
+            oy = yaw[:, solid]  # (B, S)
             oc, os_ = np.cos(oy), np.sin(oy)
-            sep = geo.obb_separation(pos[solid][None] - cand[:, None], rgt[:, None],
-                                     fwd[:, None], ext[None, None],
-                                     np.stack([oc, os_], axis=1)[None],
-                                     np.stack([-os_, oc], axis=1)[None],
-                                     self.half[solid][None])
+            sep = geo.obb_separation(pos[:, solid][:, None] - cand[:, :, None],
+                                     rgt[:, :, None], fwd[:, :, None], ext[None, None, None],
+                                     np.stack([oc, os_], axis=2)[:, None],
+                                     np.stack([-os_, oc], axis=2)[:, None],
+                                     self.half[solid][None, None])  # (B, K, S)
             # objects this one is related to may stand right beside it
-            clear = np.minimum(clear, (sep + slack[None, :]).min(axis=1))
+            clear = np.minimum(clear, (sep + slack).min(axis=2))
         dc, dr, df, dh = self.room.door_squares
         if len(dc) and doors:
-            dsep = geo.obb_separation(dc[None] - cand[:, None], rgt[:, None], fwd[:, None],
-                                      ext[None, None], dr[None], df[None], dh[None])
-            clear = np.minimum(clear, dsep.min(axis=1))
+            dsep = geo.obb_separation(dc[None, None] - cand[:, :, None], rgt[:, :, None],
+                                      fwd[:, :, None], ext[None, None, None], dr[None, None],
+                                      df[None, None], dh[None, None])
+            clear = np.minimum(clear, dsep.min(axis=2))
         return inside, clear
 
     def _side_partners(self, r: int, parent: int, placed: list[int]) -> list[int]:
@@ -686,38 +780,39 @@ class _Placer:
         return out
 
     def place(self, r: int, placed: list[int], pos: np.ndarray, yaw: np.ndarray,
-              rng: np.random.Generator, tries: int, spread: float) -> None:
-        """Choose a pose for row ``r`` given the ``placed`` rows; writes ``pos[r], yaw[r]``.
+              rngs: list[np.random.Generator], tries: int, spread: float) -> None:
+        """Choose a pose for row ``r`` of each sample given the ``placed`` rows; writes
+        ``pos[:, r], yaw[:, r]`` (poses (B, N, 2) and (B, N), one generator per sample).
 
         Where no candidate of the first draw is clear and meets every rule it can
         be judged by, with room for its children, a second draw is made and the
         better of the two kept (two beds that should stand apart: few spots along
-        the walls are far enough from the first).
+        the walls are far enough from the first). Each sample draws from its own
+        generator and is judged against its own objects only.
         """
-        best = self._best(r, placed, pos, yaw, rng, tries, spread)
-        if best[0] < _ALL_MET:
-            again = self._best(r, placed, pos, yaw, rng, tries, spread)
-            blocked = max(best[0], again[0]) <= -10.0  # neither clear: the more clearance
-            if again[0] > best[0] or (blocked and again[1] > best[1]):
-                best = again
-        if np.isfinite(best[1]):
-            pos[r], yaw[r] = best[2], best[3]
-        else:  # no candidate inside the floor: the centroid, and let the walls push
-            pos[r] = self.room.centroid
+        rank, score, cand, cyaw = self._best(r, placed, pos, yaw, rngs, tries, spread)
+        again = np.flatnonzero(rank < _ALL_MET)
+        if len(again):
+            r2, s2, c2, y2 = self._best(r, placed, pos[again], yaw[again],
+                                        [rngs[b] for b in again], tries, spread)
+            blocked = np.maximum(rank[again], r2) <= -10.0  # neither clear: the more clearance
+            take = (r2 > rank[again]) | (blocked & (s2 > score[again]))
+            sel = again[take]
+            rank[sel], score[sel], cand[sel], cyaw[sel] = r2[take], s2[take], c2[take], y2[take]
+        ok = np.isfinite(score)
+        pos[ok, r], yaw[ok, r] = cand[ok], cyaw[ok]
+        # no candidate inside the floor: the centroid, and let the walls push
+        pos[~ok, r] = self.room.centroid
 
-    def _best(self, r: int, placed: list[int], pos: np.ndarray, yaw: np.ndarray,
+    def _draw(self, r: int, placed: list[int], pos: np.ndarray, yaw: np.ndarray,
               rng: np.random.Generator, tries: int, spread: float
-              ) -> tuple[float, float, np.ndarray, float]:
-        """One draw of candidates for row ``r``, judged: the rank, clearance, position and
-        heading of the best one."""
-        model, room = self.model, self.room
-        half, radius, parent, wants = self.half, self.radius, self.parent, self.wants
-        walkable, by_object, window = self.walkable, self.by_object, self.window
-        sides = self.sides[r]  # wall to keep free on the left and the right, metres
-        lo, hi = self.lo, self.hi
-        w = wants[r]
+              ) -> tuple[np.ndarray, np.ndarray, int]:
+        """One sample's draw of candidate poses for row ``r``: positions (K, 2), headings (K,)
+        and how many of the first were drawn with no wall kept free beside them."""
+        room, half, w = self.room, self.half, self.wants[r]
         places = w.places
-        q = int(parent[r])
+        q = int(self.parent[r])
+        sides = self.sides[r]  # wall to keep free on the left and the right, metres
         cyaw = rng.uniform(-np.pi, np.pi, tries)
         corner = _corner_candidates(room, rng, tries, half[r]) if "corner" in places else None
         loose = 0  # the first candidates, drawn with no wall kept free beside them
@@ -727,7 +822,7 @@ class _Placer:
             cand, cyaw = corner
         elif q >= 0:
             cand, cyaw = _child_candidates(room, rng, tries, w, q, r, pos, yaw, half,
-                                           radius, spread)
+                                           self.radius, spread)
         elif "wall" in places:
             near = None if opening is None else _near_opening(rng, tries, opening.centre,
                                                               w.reach)
@@ -746,13 +841,13 @@ class _Placer:
             else:
                 cand = room.centroid + rng.normal(0.0, 0.3, (tries, 2))
         else:
-            cand = rng.uniform(lo, hi, (tries, 2))
+            cand = rng.uniform(self.lo, self.hi, (tries, 2))
         # beside the placed objects it should stand beside other than its parent
         # (the second bed beside the nightstand that already stands by the first)
         for p in self._side_partners(r, q, placed)[:2]:
             wp = _Wants(places={"beside"} | (places & {"wall"}), turns=w.turns)
             more, more_yaw = _child_candidates(room, rng, tries // 2, wp, p, r, pos, yaw, half,
-                                               radius, spread)
+                                               self.radius, spread)
             cand = np.concatenate([cand, more])
             cyaw = np.concatenate([cyaw, more_yaw])
         # fall-backs after the proposals: anywhere at a wall for objects that
@@ -761,12 +856,26 @@ class _Placer:
         if "wall" in places:
             more, more_yaw = _wall_candidates(room, rng, extra, half[r], None)
         else:
-            more, more_yaw = rng.uniform(lo, hi, (extra, 2)), rng.uniform(-np.pi, np.pi, extra)
-        cand = np.concatenate([cand, more])
-        cyaw = np.concatenate([cyaw, more_yaw])
+            more = rng.uniform(self.lo, self.hi, (extra, 2))
+            more_yaw = rng.uniform(-np.pi, np.pi, extra)
+        return np.concatenate([cand, more]), np.concatenate([cyaw, more_yaw]), loose
+
+    def _best(self, r: int, placed: list[int], pos: np.ndarray, yaw: np.ndarray,
+              rngs: list[np.random.Generator], tries: int, spread: float
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """One draw of candidates for row ``r`` per sample, judged: the rank, clearance,
+        position and heading of each sample's best one, shapes (B,), (B,), (B, 2), (B,)."""
+        model, half, walkable, window = self.model, self.half, self.walkable, self.window
+        w = self.wants[r]
+        sides = self.sides[r]
+        drawn = [self._draw(r, placed, pos[b], yaw[b], rng, tries, spread)
+                 for b, rng in enumerate(rngs)]
+        cand = np.stack([d[0] for d in drawn])  # (B, K, 2)
+        cyaw = np.stack([d[1] for d in drawn])  # (B, K)
+        loose = drawn[0][2]  # the same for every sample: it follows from the rules
         c, s = np.cos(cyaw), np.sin(cyaw)
-        rgt = np.stack([c, s], axis=1)
-        fwd = np.stack([-s, c], axis=1)
+        rgt = np.stack([c, s], axis=2)
+        fwd = np.stack([-s, c], axis=2)
         # judge the footprint widened by the room its side children need, and the
         # footprint alone; walkable covers are no obstacle (furniture stands on them)
         solid = [] if walkable[r] else [p for p in placed if not walkable[p]]
@@ -786,34 +895,36 @@ class _Placer:
         # children that would find no room where their rules put them, per candidate:
         # each side child on a side without its stretch of wall, each front or all-round
         # child of a parent without its margin (every one costs its parent a rule)
-        cramped = np.zeros(len(cand))
+        cramped = np.zeros(cand.shape[:2])
         if sides.max() > 0:
             left, right = sides
             nl, nr = self.side_count[r]
 
             def side(metres: float, sign: float) -> np.ndarray:  # room on one side
                 if metres <= 0:
-                    return np.ones(len(cand), dtype=bool)
+                    return np.ones(cand.shape[:2], dtype=bool)
                 return roomy(cand + rgt * (0.5 * sign * metres),
                              half[r] + np.array([0.5 * metres, 0.0]))
 
             cramped = nl * ~side(left, -1.0) + nr * ~side(right, 1.0)
             if self.either[r] and (left, nl) != (right, nr):  # or the other way round
                 cramped = np.minimum(cramped, nr * ~side(right, -1.0) + nl * ~side(left, 1.0))
-            cramped[:loose] = 0.0  # drawn with no wall kept beside them
+            cramped[:, :loose] = 0.0  # drawn with no wall kept beside them
         # no room above it for the object that hangs there: that object goes missing and
         # the sample fails, so this ranks with a spot in a window zone (below)
-        unmet = 4.0 * _unmet(room, w, cand, fwd, rgt, half[r])
-        unmet += _unmet_rules(model, by_object[r], r, cand, cyaw, pos, yaw, placed)
+        bk = cand.shape[:2]
+        unmet = 4.0 * _unmet(self.room, w, cand.reshape(-1, 2), fwd.reshape(-1, 2),
+                             rgt.reshape(-1, 2), half[r]).reshape(bk)
+        unmet += _unmet_rules(model, self.by_object[r], r, cand, cyaw, pos, yaw, placed)
         if window is not None and window.tall[:, r].any():  # tall: not in front of a window
             z = window.tall[:, r]
-            sep = geo.obb_separation(window.centre[z][None] - cand[:, None], rgt[:, None],
-                                     fwd[:, None], half[r][None, None],
-                                     window.lateral[z][None], window.out[z][None],
-                                     window.half[z][None])
+            sep = geo.obb_separation(window.centre[z][None, None] - cand[:, :, None],
+                                     rgt[:, :, None], fwd[:, :, None], half[r][None, None, None],
+                                     window.lateral[z][None, None], window.out[z][None, None],
+                                     window.half[z][None, None])
             # a failed check rejects a sample, an unmet rule may be within its tolerance:
             # a spot in a window zone ranks below one that misses any few rules
-            unmet += 4.0 * (sep < -0.02).any(axis=1)
+            unmet += 4.0 * (sep < -0.02).any(axis=2)
         score = np.where(inside0, clear0, -np.inf)
         fm = self.front_margin[r]
         if fm > 0:  # in front of it for its front children (the chair at the desk)
@@ -826,5 +937,7 @@ class _Placer:
         # children's counted too; else the one with the most clearance
         rank = np.where(score >= _CLEAR, _ALL_MET - 2.0 * (unmet + cramped),
                         np.where(np.isfinite(score), -10.0, -99.0))
-        k = int(np.argmax(rank)) if rank.max() > -10.0 else int(np.argmax(score))
-        return float(rank[k]), float(score[k]), cand[k], float(cyaw[k])
+        k = np.where(rank.max(axis=1) > -10.0, np.argmax(rank, axis=1),
+                     np.argmax(score, axis=1))
+        b = np.arange(len(k))
+        return rank[b, k], score[b, k], cand[b, k], cyaw[b, k]

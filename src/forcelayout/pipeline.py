@@ -20,7 +20,7 @@ from forcelayout.access import AccessTerm
 from forcelayout.batching import SampleTask, SimRequest, drive
 from forcelayout.forces import ForceModel, PassageTerm
 from forcelayout.hierarchy import sample_floor, scene_graph
-from forcelayout.initial import start_poses
+from forcelayout.initial import Starts
 from forcelayout.layout import Pose
 from forcelayout.options import Options
 from forcelayout.plan import Plan
@@ -126,11 +126,13 @@ class _Models:
 
     full: ForceModel
     quiet: ForceModel  # without the walking-room and access terms: for settling
+    placer: object  # the start poses' candidate drawer (initial.Starts.placer_of)
 
     @classmethod
     def of(cls, plan: Plan, opts: Options) -> _Models:
         full = ForceModel(plan, relations=opts.relations)
-        return cls(full, full.leaving_out(PassageTerm, AccessTerm))
+        placer = Starts.placer_of(full) if full.n else None
+        return cls(full, full.leaving_out(PassageTerm, AccessTerm), placer)
 
 
 def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Models
@@ -143,7 +145,12 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Mo
     misses = allowed_misses(len(model.compiled.bindings),
                             max(opts.min_rule_satisfaction, START_RULE_SATISFACTION))
     steps, settled, start, fewest, tried = 0, None, None, np.inf, 0
-    for pos0, yaw0, verdict in start_poses(model, rng, misses=misses):
+    starts = Starts(model, rng, placer=models.placer, misses=misses)
+    while True:
+        got = yield from starts.next()
+        if got is None:
+            break
+        pos0, yaw0, verdict = got
         if len(verdict.failures) < fewest:  # the first start with the fewest failures
             start, fewest = (pos0, yaw0), len(verdict.failures)
         if not verdict.passes(misses):

@@ -490,14 +490,18 @@ def _reachable(layout: Layout, ids: list[str], solid: np.ndarray, dist2: np.ndar
     for k, lab in enumerate(door_labels):
         table[k, lab] = True
     near_cells = dist2[prim] <= np.float32(near) ** 2  # (P, H, W)
+    # the free regions each primary object can be reached in: (P, n + 1) bool
+    row, y, x = np.nonzero(near_cells & free)
+    touches = np.zeros((len(prim), n + 1), dtype=bool)
+    touches[row, labels[y, x]] = True
+    touches[:, 0] = False
+    reached = (touches[:, None, :] & table[None]).any(-1)  # (P, doors)
     unreachable: list[str] = []
     blocked_by: dict[str, list[str]] = {}
     failures: list[str] = []
     paths: _PathFinder | None = None
     for row, k in enumerate(prim):
-        labs = np.unique(labels[near_cells[row] & free])
-        labs = labs[labs > 0]
-        ok = table[:, labs].any(-1) if len(labs) else np.zeros(len(table), dtype=bool)
+        ok = reached[row]
         if ok.all():
             continue
         unreachable.append(ids[k])

@@ -416,8 +416,8 @@ def check_rule(
        ``max_satisfied_force`` times the binding weight, so a finished layout
        is not pulled around;
     6. a rule that declares ``batched = True`` gives each sample of a state
-       stacking three samples (``State.samples``) the forces that sample gets
-       alone, bit for bit.
+       stacking three samples (``State.samples``) the forces and checks that
+       sample gets alone, bit for bit.
 
     Parameters
     ----------
@@ -550,13 +550,17 @@ def _check_batched(rule: Rule, state: State, i: np.ndarray, j: np.ndarray | None
     big = ParamArrays({k: np.tile(v, 3) for k, v in p._fields.items()}, np.tile(p.weight, 3))
     f, tau = _call_force(rule, stacked, np.tile(i, 3) + shift,
                          None if j is None else np.tile(j, 3) + shift, big, where + ", stacked")
+    ok = _call_satisfied(rule, stacked, np.tile(i, 3) + shift,
+                         None if j is None else np.tile(j, 3) + shift, big, where + ", stacked")
     for b, one in enumerate(states):
         f1, t1 = _call_force(rule, one, i, j, p, where)
+        ok1 = _call_satisfied(rule, one, i, j, p, where)
         rows = slice(b * len(i), (b + 1) * len(i))
-        if not (np.array_equal(f[rows], f1) and np.array_equal(tau[rows], t1)):
+        if not (np.array_equal(f[rows], f1) and np.array_equal(tau[rows], t1)
+                and np.array_equal(ok[rows], ok1)):
             raise RuleConformanceError(
                 f"{rule.name} declares batched = True, but on a state stacking three samples "
-                f"({where}) sample {b} got other forces than alone: it relates rows of "
+                f"({where}) sample {b} got other forces or checks than alone: it relates rows of "
                 "different samples. Use only i, j and State.separation, gap_estimate, gap "
                 "and peers (never the all-pairs matrices or every row), or set "
                 "batched = False (the engine then calls the rule once per sample)")

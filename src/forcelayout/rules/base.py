@@ -489,8 +489,9 @@ class Rule:
         Fraction of the force on ``i`` applied, reversed, to the target ``j``
         (binary rules only). 0 keeps the target still, 0.5 splits the pull.
     batched : bool
-        Whether :meth:`force` may be given a state that stacks many samples
-        (``State.samples > 1``, the batched engine): it relates rows only
+        Whether :meth:`force` and :meth:`satisfied` may be given a state that
+        stacks many samples (``State.samples > 1``, the batched engine, which
+        also judges start candidates of many samples at once): they relate rows only
         through ``i`` and ``j`` and the state's per-sample methods
         (``separation``, ``gap_estimate``, ``gap``, ``peers``), never through
         the all-pairs matrices or every row at once. The built-in rules are

@@ -23,6 +23,7 @@ import time
 
 import numpy as np
 
+from forcelayout.batching import SampleTask, drive
 from forcelayout.bindings import compile_plan
 from forcelayout.layout import Pose
 from forcelayout.options import SolverConfig
@@ -40,6 +41,7 @@ __all__ = [
     "check_surfaces",
     "free_wall_stretches",
     "place_surfaces",
+    "surface_task",
     "wall_pose",
 ]
 
@@ -74,11 +76,32 @@ def place_surfaces(
     SurfacePlacement
         All poses; objects that could not be placed are in ``missing``.
     """
+    return drive([surface_task(plan, floor, rng, relations=relations, solver=solver,
+                               reach=reach)])[0]
+
+
+def surface_task(
+    plan: Plan,
+    floor: dict[str, Pose],
+    rng: np.random.Generator,
+    *,
+    relations: bool = True,
+    solver: SolverConfig | None = None,
+    reach: float = 0.3,
+    models: dict | None = None,
+) -> SampleTask[SurfacePlacement]:
+    """:func:`place_surfaces` as a sample task (:mod:`forcelayout.batching`).
+
+    The simulations of the tops are requests: samples driven together that
+    share one ``models`` dict (the tops' force models, the same for every
+    sample of a plan) simulate each top as one batch. The result is the one
+    :func:`place_surfaces` gives, bit for bit.
+    """
     cp = compile_plan(plan)
     cfg = solver or SolverConfig()
     out = SurfacePlacement(dict(floor))
     t = time.perf_counter()
-    place_on_tops(cp, out.poses, rng, relations, cfg, out)
+    yield from place_on_tops(cp, out.poses, rng, relations, cfg, out, models)
     t1 = time.perf_counter()
     place_on_walls(cp, out.poses, rng, relations, cfg, reach, out)
     t2 = time.perf_counter()

@@ -17,13 +17,13 @@ import math
 
 import numpy as np
 
+from forcelayout.batching import SampleTask, SimRequest
 from forcelayout.bindings import Binding, CompiledPlan
 from forcelayout.forces import ForceModel
 from forcelayout.geometry import RoomGeometry, box_corners
 from forcelayout.layout import Pose
 from forcelayout.options import SolverConfig
 from forcelayout.rules.base import State
-from forcelayout.solver import simulate
 from forcelayout.surfaces.plane import SurfacePlacement, plane_solver, rect
 
 __all__ = ["place_on_tops", "holds"]
@@ -47,8 +47,17 @@ def _top_bindings(cp: CompiledPlan, kids: set[str]) -> list[Binding]:
 
 
 def place_on_tops(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Generator,
-                  relations: bool, cfg: SolverConfig, out: SurfacePlacement) -> None:
-    """Place every object that rests on a parent's top, parents before their children."""
+                  relations: bool, cfg: SolverConfig, out: SurfacePlacement,
+                  models: dict | None = None) -> SampleTask[None]:
+    """Place every object that rests on a parent's top, parents before their children.
+
+    A sample task (:mod:`forcelayout.batching`): each top's simulation is a
+    :class:`~forcelayout.batching.SimRequest`. A top's plane is the same for
+    every sample (the parent's top in its own frame), so samples given the
+    same ``models`` dict share its force model and their simulations of it
+    run as one batch.
+    """
+    models = {} if models is None else models
     children: dict[str, list[str]] = {}
     for b in cp.on("top"):
         if b.target is not None:
@@ -60,7 +69,8 @@ def place_on_tops(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gener
             break
         for parent in ready:
             done.add(parent)
-            _top_plane(cp, parent, children[parent], poses, rng, relations, cfg, out)
+            yield from _top_plane(cp, parent, children[parent], poses, rng, relations, cfg,
+                                  out, models)
     for parent, kids in children.items():
         if parent not in done:
             out.missing.extend(f"{c}: its parent {parent!r} was not placed" for c in kids)
@@ -68,7 +78,7 @@ def place_on_tops(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gener
 
 def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, Pose],
                rng: np.random.Generator, relations: bool, cfg: SolverConfig,
-               out: SurfacePlacement) -> None:
+               out: SurfacePlacement, models: dict) -> SampleTask[None]:
     pw, pd, ph = cp.size([parent])[0]
     room = RoomGeometry(rect(-pw / 2, -pd / 2, pw / 2, pd / 2), height=1.0)
     size = cp.size(kids)
@@ -79,7 +89,11 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
     # parent is: the parent's back is the side at a wall (a TV at the wall behind its stand)
     at_back = {b.object for b in bindings if b.target is None
                and b.rule.start is not None and b.rule.start.place == "wall"}
-    model = ForceModel(cp, kids, bindings=bindings, room=room, relations=relations)
+    key = (id(cp), parent, tuple(kids), relations)
+    model = models.get(key)
+    if model is None:
+        model = models[key] = ForceModel(cp, kids, bindings=bindings, room=room,
+                                         relations=relations)
     edge = model.physical_weights.boundary_range + 1e-3  # starts beyond the terms' reach
     apart = model.physical_weights.repulsion_range + 1e-3
     for r in range(len(kids)):
@@ -108,7 +122,7 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
             out.missing.append(f"{kids[r]}: does not fit on top of {parent!r} in any orientation")
             return
         pos[r], yaw[r] = best
-    res = simulate(model, pos, yaw, plane_solver(cfg))
+    res = yield SimRequest(model, pos, yaw, plane_solver(cfg))
     out.steps += res.steps
     out.converged &= res.converged
     fpos, fyaw = _clamp_inside(res.pos, res.yaw, size, pw, pd)

@@ -57,7 +57,9 @@ def place_on_ceiling(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Ge
     if not ids:
         return
     size = cp.size(ids)
-    pos = np.array(anchor) + rng.normal(0.0, 0.02, (len(ids), 2))
+    pos = np.array(anchor, dtype=float).reshape(-1, 2)
+    if len(ids) > 1:  # apart, so objects on one anchor push each other a definite way
+        pos = pos + rng.normal(0.0, 0.02, (len(ids), 2))
     model = ForceModel(cp, ids, bindings=(), room=plane, relations=relations,
                        terms=[AnchorTerm(np.array(anchor), np.array(stiff))])
     res = simulate(model, pos, np.zeros(len(ids)), plane_solver(cfg))

@@ -1,7 +1,8 @@
 """Raw-sample quality and speed of the core solver on the bundled plans.
 
 For each plan, draws ``--samples`` raw samples with :func:`forcelayout.solve`
-(one process, one core) and prints JSON with:
+(one process, one core; ``--batch`` at a time, as ``generate`` runs them) and
+prints JSON with:
 
 * ``valid_pct`` — samples passing the deterministic checks (and placing
   every object);
@@ -14,30 +15,35 @@ For each plan, draws ``--samples`` raw samples with :func:`forcelayout.solve`
 
 Usage::
 
-    python benchmarks/core.py [--samples 40] [--plans bedroom living_room] [--markdown]
+    python benchmarks/core.py [--samples 40] [--batch 16] [--plans bedroom living_room]
+        [--markdown]
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import time
+import sys
 from collections import Counter
+from pathlib import Path
 
 import numpy as np
 
-import forcelayout as fl
-from forcelayout.sampling import sample_seed
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _common import raw_samples  # noqa: E402
+
+import forcelayout as fl  # noqa: E402
 
 
-def bench_plan(name: str, samples: int, seed: int) -> dict:
+def bench_plan(name: str, samples: int, seed: int, batch: int) -> dict:
     plan = fl.examples.load_example(name)
     fl.solve(plan, seed=10**9)  # warm caches and imports outside the timing
     reports = []
-    t0 = time.process_time()
-    for k in range(samples):
-        reports.append(fl.solve(plan, sample_seed(seed, k)).report)
-    cpu = time.process_time() - t0
+    cpu = 0.0
+    for lay, seconds in raw_samples(plan, seed, samples, batch):
+        reports.append(lay.report)
+        cpu += seconds
     # passes the deterministic checks (every failure other than too few rules met)
     valid = np.array([not [f for f in r.failures if not f.startswith("rules:")]
                       for r in reports])
@@ -65,11 +71,13 @@ def bench_plan(name: str, samples: int, seed: int) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--samples", type=int, default=40)
+    ap.add_argument("--batch", type=int, default=fl.Options().batch,
+                    help="samples simulated together (default: as generate runs them)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--plans", nargs="*", default=fl.examples.list_plans())
     ap.add_argument("--markdown", action="store_true", help="also print a Markdown table")
     args = ap.parse_args()
-    rows = [bench_plan(p, args.samples, args.seed) for p in args.plans]
+    rows = [bench_plan(p, args.samples, args.seed, args.batch) for p in args.plans]
     print(json.dumps({"benchmark": "core", "forcelayout": fl.__version__, "results": rows},
                      indent=2))
     if args.markdown:

@@ -14,7 +14,9 @@ costs; the ratio of the two says how much the library spends around it
 Printed per plan and overall (JSON; ``--markdown`` adds a table): ms per raw
 sample, mean steps, floor bodies, the bare loop's ms per sample, their ratio,
 good layouts per CPU second of one core (valid AND >= 95 % of rules met), and
-the rejection baseline's good layouts per CPU second in the same run.
+the rejection baseline's good layouts per CPU second in the same run; and the
+peak resident memory of a worker process (``peak_mib``: the batch's memory
+shows there).
 
 Targets (speed issue): ratio <= 2 on plans of 8-20 floor objects, >= 100 good
 layouts/s/core on the bundled living room, >= 5 x the baseline's good
@@ -30,6 +32,7 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import resource
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -103,6 +106,7 @@ def bench_plan(source: str, samples: int, tries: int, seed: int, batch: int
         ok = not [f for f in rep.failures if not f.startswith("rules:")]
         good += ok and rep.rule_satisfaction >= GOOD_RULES
         bare += bare_loop(floor, rep.steps, seed=k)
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
     rejection_sample(plan, 1, seed=2**62, max_tries=1)
     t0 = time.process_time()
     res = rejection_sample(plan, samples, seed=seed, max_tries=tries)
@@ -119,6 +123,7 @@ def bench_plan(source: str, samples: int, tries: int, seed: int, batch: int
         "good": good,
         "good_per_s": good / cpu if cpu > 0 else None,
         "cpu_seconds": cpu,
+        "peak_mib": peak,
         "baseline": {"tries": res.tries, "accepted": len(res), "cpu_seconds": bl_cpu,
                      "good_per_s": len(res) / bl_cpu if bl_cpu > 0 else None},
     }
@@ -141,6 +146,7 @@ def overall(rows: list[dict[str, Any]]) -> dict[str, Any]:
         "good_per_s": gs,
         "baseline_good_per_s": bs,
         "speed_ratio": speed,
+        "peak_mib": max((r["peak_mib"] for r in rows), default=None),
         "targets": {
             "ratio": all(r["ratio"] is not None and r["ratio"] <= RATIO for r in sized)
             if sized else None,
@@ -172,7 +178,8 @@ def markdown(result: dict[str, Any]) -> str:
     lines.append(f"Targets: ratio <= {RATIO:g} on plans of {FLOOR_RANGE[0]}-{FLOOR_RANGE[1]} "
                  f"floor objects: {t['ratio']}; >= {LIVING_ROOM:g} good/s on the living room: "
                  f"{t['living_room']}; >= {SPEED_SUITE:g} x the baseline over the suite "
-                 f"({_num(o['speed_ratio'], 2)} x): {t['speed_suite']}.")
+                 f"({_num(o['speed_ratio'], 2)} x): {t['speed_suite']}. Peak memory of a "
+                 f"worker process: {_num(o['peak_mib'], 0)} MiB.")
     return "\n".join(lines)
 
 
@@ -192,7 +199,8 @@ def main(argv: list[str] | None = None) -> None:
         "benchmark": "floor",
         "forcelayout": fl.__version__,
         "config": {"samples": args.samples, "baseline_tries": args.baseline_tries,
-                   "seed": args.seed, "jobs": args.jobs, "good_rules": GOOD_RULES},
+                   "seed": args.seed, "jobs": args.jobs, "batch": args.batch,
+                   "good_rules": GOOD_RULES},
         "plans": rows,
         "overall": overall(rows),
         "wall_seconds": time.perf_counter() - t0,

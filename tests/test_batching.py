@@ -242,3 +242,17 @@ def test_check_rule_catches_a_rule_that_claims_batched_wrongly():
             check_rule("wrong_batched_test", n_states=3, steps=2)
     finally:
         unregister("wrong_batched_test")
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(plan=plans(max_objects=5), seed=st.integers(0, 2**20))
+def test_random_plans_solve_the_same_in_a_batch(plan, seed):
+    """Whole samples (start poses, settling, repair, surfaces, checks) of random plans: a
+    batch of three gives each seed the layout and report it gets alone."""
+    seeds = [seed, seed + 1, seed + 2]
+    many = solve_many(plan, seeds)
+    for s, lay in zip(seeds, many, strict=True):
+        alone = fl.solve(plan, s)
+        assert _poses(lay) == _poses(alone)
+        assert lay.report.failures == alone.report.failures
+        assert lay.report.steps == alone.report.steps

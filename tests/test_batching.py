@@ -244,7 +244,7 @@ def test_check_rule_catches_a_rule_that_claims_batched_wrongly():
         unregister("wrong_batched_test")
 
 
-@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(plan=plans(max_objects=5), seed=st.integers(0, 2**20))
 def test_random_plans_solve_the_same_in_a_batch(plan, seed):
     """Whole samples (start poses, settling, repair, surfaces, checks) of random plans: a

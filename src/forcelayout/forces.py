@@ -368,7 +368,8 @@ class ForceModel:
             return self
         key = (samples, *map(id, self.terms))
         out = self._stacks.get(key)
-        if out is None:
+        if out is None or any(a is not b for a, b in zip(out.source, self.terms, strict=True)):
+            # (an id may be reused by a new term once an old one is gone)
             if len(self._stacks) > 64:
                 self._stacks.clear()
             out = self._stacks[key] = StackedForces(self, samples)
@@ -437,6 +438,7 @@ class StackedForces:
 
     def __init__(self, model: ForceModel, samples: int):
         self.model, self.samples, self.rows = model, int(samples), model.n
+        self.source = tuple(model.terms)  # the terms stacked here
         self.size = np.tile(model.size, (self.samples, 1))
         self.ids = model.ids * self.samples
         self.terms = [stack_term(t, self.samples, self.rows) for t in model.terms]

@@ -256,3 +256,15 @@ def test_random_plans_solve_the_same_in_a_batch(plan, seed):
         assert _poses(lay) == _poses(alone)
         assert lay.report.failures == alone.report.failures
         assert lay.report.steps == alone.report.steps
+
+
+def test_a_plan_with_nothing_on_the_floor_batches():
+    plan = {"name": "gallery_wall",
+            "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]]},
+            "objects": [{"id": "p", "category": "painting", "size": [0.6, 0.03, 0.4]}],
+            "rules": [{"rule": "on_wall", "object": "p"}]}
+    many = solve_many(plan, [1, 2, 3])
+    assert [_poses(lay) for lay in many] == [_poses(fl.solve(plan, s)) for s in (1, 2, 3)]
+    assert all(lay.report.valid for lay in many)
+    assert len(fl.generate(plan, 3, seed=1)) == 3
+    assert solve_many(plan, []) == []

@@ -231,9 +231,10 @@ def simulate_batch(
     """
     cfg = config or SolverConfig()
     n = model.n
-    pos = np.array(pos, dtype=float).reshape(-1, n, 2)
-    yaw = np.array(yaw, dtype=float).reshape(-1, n)
-    count = pos.shape[0]
+    pos = np.array(pos, dtype=float)
+    count = len(pos)
+    pos = pos.reshape(count, n, 2)
+    yaw = np.array(yaw, dtype=float).reshape(count, n)
     fixed = np.zeros(n, dtype=bool) if fixed is None else np.asarray(fixed, dtype=bool)
     if n == 0 or count == 0:
         return [SimulationResult(pos[b], yaw[b], 0, True) for b in range(count)]

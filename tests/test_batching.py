@@ -268,3 +268,35 @@ def test_a_plan_with_nothing_on_the_floor_batches():
     assert all(lay.report.valid for lay in many)
     assert len(fl.generate(plan, 3, seed=1)) == 3
     assert solve_many(plan, []) == []
+
+
+def test_floor_checks_are_reused_only_within_a_batch():
+    """Within reusing_floor_checks a floor checked before is not checked again (same report);
+    outside it every call checks afresh, so a plan changed in place is judged as it is now."""
+    from forcelayout.validate import checks
+
+    lay = fl.solve("bedroom", 3)
+    calls = []
+    real = checks._floor_checks
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return real(*args, **kwargs)
+
+    checks._floor_checks = counted
+    try:
+        first = lay.check()
+        second = lay.check()
+        assert len(calls) == 2  # no block: nothing reused
+        with checks.reusing_floor_checks():
+            a, b = lay.check(), lay.check()
+            assert len(calls) == 3
+            assert a.failures == b.failures == first.failures
+            assert (a.free_mask == first.free_mask).all() and a.free_fraction == first.free_fraction
+            a.free_mask[:] = False  # a report's arrays are its own
+            assert lay.check().free_mask.any()
+        lay.check()
+        assert len(calls) == 4  # after the block: checked afresh
+    finally:
+        checks._floor_checks = real
+    assert second.failures == first.failures

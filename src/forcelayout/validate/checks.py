@@ -39,6 +39,9 @@ Each failure is a line ``"<check>: <reason naming the objects>"``.
 
 from __future__ import annotations
 
+import contextvars
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -228,10 +231,63 @@ def check_layout(
     if not 0.0 <= min_free_fraction <= 1.0:
         raise ValueError(f"check_layout: min_free_fraction must lie in [0, 1], "
                          f"got {min_free_fraction!r}")
+    ids, pos, yaw, half = _floor_arrays(layout)
+    args = (agent_radius, grid, min_free_fraction, reach, max_overlap, door_clearance,
+            window_clearance, wall_band)
+    kept = _FLOOR_CHECKS.get()
+    key = (id(layout.plan), tuple(ids), pos.tobytes(), yaw.tobytes(), half.tobytes(), *args)
+    hit = None if kept is None else kept.get(key)
+    if hit is None or hit[0] is not layout.plan:
+        floor = _floor_checks(layout, ids, pos, yaw, half, *args)
+        if kept is not None:
+            if len(kept) >= _FLOOR_CHECKS_KEPT:
+                kept.pop(next(iter(kept)))
+            kept[key] = (layout.plan, floor)
+    else:
+        floor = hit[1]
+    before, after, free_fraction, navigable_fraction, unreachable, blocked_by, free, origin \
+        = floor
+    failures = before + _surfaces(layout, max_overlap) + after
+    return CheckReport(ok=not failures, failures=failures, free_fraction=free_fraction,
+                       navigable_fraction=navigable_fraction, unreachable=list(unreachable),
+                       blocked_by={k: list(v) for k, v in blocked_by.items()},
+                       free_mask=free.copy(), origin=origin.copy(), grid=float(grid))
+
+
+#: Within :func:`reusing_floor_checks`: the floor checks of recent layouts, key -> (plan,
+#: results), oldest out first. A floor judged after settling is judged again with its objects
+#: on tops, walls and the ceiling; its floor checks are then not run twice.
+_FLOOR_CHECKS: contextvars.ContextVar[dict | None] = contextvars.ContextVar(
+    "forcelayout_floor_checks", default=None)
+_FLOOR_CHECKS_KEPT = 256
+
+
+@contextmanager
+def reusing_floor_checks() -> Iterator[None]:
+    """Within the block, :func:`check_layout` reuses the checks of a floor it has checked.
+
+    Two layouts with the same plan object, the same floor poses (bit for bit)
+    and the same thresholds share every check but ``surfaces``. The samples
+    of a batch run in such a block (the plan does not change there); outside
+    one, nothing is reused.
+    """
+    token = _FLOOR_CHECKS.set({})
+    try:
+        yield
+    finally:
+        _FLOOR_CHECKS.reset(token)
+
+
+def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
+                  half: np.ndarray, agent_radius: float, grid: float,
+                  min_free_fraction: float, reach: float, max_overlap: float,
+                  door_clearance: bool, window_clearance: bool, wall_band: bool) -> tuple:
+    """Every check of the floor objects alone (all but ``surfaces``): the failures before and
+    after where ``surfaces`` goes, the fractions, the unreachable objects, what blocks them,
+    the free mask and its origin."""
     room = layout.room
     plan = layout.plan
     failures: list[str] = []
-    ids, pos, yaw, half = _floor_arrays(layout)
     walk = np.array([plan.object(i).is_walkable for i in ids], dtype=bool)
     height = np.array([plan.object(i).size[2] for i in ids], dtype=float)
     right, front = right_vectors(yaw), front_vectors(yaw)
@@ -246,8 +302,7 @@ def check_layout(
     if window_clearance:
         failures += _windows(ids, pos, right, front, half, polys, solid, height, layout,
                              max_overlap)
-    failures += _surfaces(layout, max_overlap)
-
+    after: list[str] = []
     rg = room_grid(room, grid=grid, agent_radius=agent_radius)
     if len(ids):
         dist2 = _footprint_dist2(rg.xs, rg.ys, pos - rg.origin, yaw, half)
@@ -268,16 +323,14 @@ def check_layout(
     if judged < min_free_fraction:
         shown, need = _percents(judged, min_free_fraction)
         where = "for the centre of" if wall_band else "for"
-        failures.append(f"navigable: only {shown}% of the floor is free {where} an agent of "
-                        f"radius {agent_radius:g} m (need {need}%)")
+        after.append(f"navigable: only {shown}% of the floor is free {where} an agent of "
+                     f"radius {agent_radius:g} m (need {need}%)")
 
     unreachable, blocked_by, reach_fail = _reachable(
         layout, ids, solid, dist2, blocked, free, rg, agent_radius + reach)
-    failures += reach_fail
-    return CheckReport(ok=not failures, failures=failures, free_fraction=free_fraction,
-                       navigable_fraction=navigable_fraction, unreachable=unreachable,
-                       blocked_by=blocked_by, free_mask=free, origin=rg.origin.copy(),
-                       grid=float(grid))
+    after += reach_fail
+    return (failures, after, free_fraction, navigable_fraction, unreachable, blocked_by, free,
+            rg.origin.copy())
 
 
 def _collisions(ids: list[str], pos: np.ndarray, right: np.ndarray, front: np.ndarray,

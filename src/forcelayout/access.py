@@ -33,7 +33,7 @@ from forcelayout import geometry as geo
 from forcelayout.bindings import Binding
 from forcelayout.clearance import push_out
 from forcelayout.plan import SceneObject
-from forcelayout.rules.base import Access, State
+from forcelayout.rules.base import Access, State, stacked_rows
 
 __all__ = ["CATEGORY_ACCESS", "access_of", "AccessTerm", "access_term"]
 
@@ -150,8 +150,7 @@ class AccessTerm:
 
     def stack(self, samples: int, rows: int) -> AccessTerm:
         """The same zones for ``samples`` stacked samples of ``rows`` rows each."""
-        shift = np.repeat(np.arange(samples) * rows, len(self.owner))
-        return AccessTerm(np.tile(self.owner, samples) + shift,
+        return AccessTerm(stacked_rows(self.owner, samples, rows),
                           np.tile(self.direction, (samples, 1)), np.tile(self.depth, samples),
                           np.tile(self.exempt, (samples, 1)), self.strength)
 

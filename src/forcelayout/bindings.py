@@ -33,7 +33,7 @@ from pydantic import BaseModel
 from forcelayout import rules as registry
 from forcelayout.geometry import RoomGeometry
 from forcelayout.plan import Plan, _binding_label
-from forcelayout.rules.base import ParamArrays, Rule, State
+from forcelayout.rules.base import ParamArrays, Rule, State, stacked_rows
 
 __all__ = ["Binding", "RuleGroup", "CompiledPlan", "compile_plan", "group_bindings"]
 
@@ -128,11 +128,10 @@ class RuleGroup:
 
     def stack(self, samples: int, rows: int) -> RuleGroup:
         """The same bindings in each of ``samples`` stacked samples of ``rows`` rows."""
-        shift = np.repeat(np.arange(samples) * rows, len(self.i))
         p = self.params
         fields = {k: np.tile(v, samples) for k, v in p._fields.items()}
-        return RuleGroup(self.rule, np.tile(self.i, samples) + shift,
-                         None if self.j is None else np.tile(self.j, samples) + shift,
+        return RuleGroup(self.rule, stacked_rows(self.i, samples, rows),
+                         None if self.j is None else stacked_rows(self.j, samples, rows),
                          ParamArrays(fields, np.tile(p.weight, samples)),
                          np.tile(self.index, samples), np.tile(self.position, samples))
 

@@ -38,7 +38,7 @@ from forcelayout.bindings import Binding, CompiledPlan, RuleGroup, compile_plan,
 from forcelayout.clearance import WindowTerm
 from forcelayout.geometry import RoomGeometry
 from forcelayout.plan import Plan
-from forcelayout.rules.base import State
+from forcelayout.rules.base import State, stacked_rows
 from forcelayout.rules.physical import PhysicalWeights, physical, repulsion
 from forcelayout.validate.checks import window_zones
 
@@ -148,7 +148,8 @@ class PassageTerm:
 
     def stack(self, samples: int, rows: int) -> PassageTerm:
         """The same pairs in each of ``samples`` stacked samples of ``rows`` rows."""
-        return PassageTerm(*_tile_pairs(self.qi, self.qj, samples, rows), self.weights)
+        return PassageTerm(stacked_rows(self.qi, samples, rows),
+                           stacked_rows(self.qj, samples, rows), self.weights)
 
     def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
         w = self.weights
@@ -176,20 +177,14 @@ class PhysicalTerm:
 
     def stack(self, samples: int, rows: int) -> PhysicalTerm:
         """The same terms in each of ``samples`` stacked samples of ``rows`` rows."""
-        out = PhysicalTerm(*_tile_pairs(self.pi, self.pj, samples, rows), self.weights)
+        out = PhysicalTerm(stacked_rows(self.pi, samples, rows),
+                           stacked_rows(self.pj, samples, rows), self.weights)
         out.solid = None if self.solid is None else np.tile(self.solid, samples)
         out.slide = None if self.slide is None else np.tile(self.slide, samples)
         return out
 
     def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
         return physical(state, self.pi, self.pj, self.weights, self.solid, self.slide)
-
-
-def _tile_pairs(pi: np.ndarray, pj: np.ndarray, samples: int, rows: int
-                ) -> tuple[np.ndarray, np.ndarray]:
-    """Row pairs of one sample repeated for each of ``samples`` stacked samples."""
-    shift = np.repeat(np.arange(samples) * rows, len(pi))
-    return np.tile(pi, samples) + shift, np.tile(pj, samples) + shift
 
 
 class _PerSample:

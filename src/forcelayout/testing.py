@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from forcelayout import rules as registry
+from forcelayout.bindings import RuleGroup
 from forcelayout.geometry import RoomGeometry
 from forcelayout.plan import Plan, Room, SceneObject
 from forcelayout.rules.base import ParamArrays, Rule, State
@@ -546,12 +547,10 @@ def _check_batched(rule: Rule, state: State, i: np.ndarray, j: np.ndarray | None
     stacked = State(np.concatenate([s.pos for s in states]),
                     np.concatenate([s.yaw for s in states]), np.tile(state.size, (3, 1)),
                     state.room, state.ids * 3, samples=3)
-    shift = np.repeat(np.arange(3) * n, len(i))
-    big = ParamArrays({k: np.tile(v, 3) for k, v in p._fields.items()}, np.tile(p.weight, 3))
-    f, tau = _call_force(rule, stacked, np.tile(i, 3) + shift,
-                         None if j is None else np.tile(j, 3) + shift, big, where + ", stacked")
-    ok = _call_satisfied(rule, stacked, np.tile(i, 3) + shift,
-                         None if j is None else np.tile(j, 3) + shift, big, where + ", stacked")
+    # the bindings of each sample, as the engine stacks them
+    big = RuleGroup(rule, i, j, p, np.full(len(i), -1), np.arange(len(i))).stack(3, n)
+    f, tau = _call_force(rule, stacked, big.i, big.j, big.params, where + ", stacked")
+    ok = _call_satisfied(rule, stacked, big.i, big.j, big.params, where + ", stacked")
     for b, one in enumerate(states):
         f1, t1 = _call_force(rule, one, i, j, p, where)
         ok1 = _call_satisfied(rule, one, i, j, p, where)

@@ -31,6 +31,7 @@ __all__ = [
     "StartHint",
     "Access",
     "Closeness",
+    "stacked_rows",
 ]
 
 #: What a rule relates, for listings: the room ("unary"), a target object ("binary"),
@@ -358,6 +359,22 @@ class State:
     def invalidate(self) -> None:
         """Drop cached derived arrays after ``pos`` or ``yaw`` changed."""
         self._cache.clear()
+
+
+def stacked_rows(index: np.ndarray, samples: int, rows: int) -> np.ndarray:
+    """Row indices of one sample, repeated for each of ``samples`` stacked samples.
+
+    The stacking convention of :class:`State`: sample ``b`` takes rows
+    ``b * rows .. (b + 1) * rows - 1``, so ``index`` (shape (K,)) becomes
+    ``index``, ``index + rows``, ... (shape (samples * K,)).
+
+    Examples
+    --------
+    >>> stacked_rows(np.array([0, 2]), 3, 4).tolist()
+    [0, 2, 4, 6, 8, 10]
+    """
+    index = np.asarray(index, dtype=int)
+    return np.tile(index, samples) + np.repeat(np.arange(samples) * rows, len(index))
 
 
 class ParamArrays:

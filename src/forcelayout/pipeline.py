@@ -26,7 +26,7 @@ from forcelayout.options import Options
 from forcelayout.plan import Plan
 from forcelayout.repair import repair_floor
 from forcelayout.solver import SimulationResult
-from forcelayout.surfaces import check_surfaces, place_surfaces, surface_task
+from forcelayout.surfaces import check_surfaces, surface_task
 from forcelayout.verdict import allowed_misses, judge_floor
 
 __all__ = ["Placement", "realise", "realise_batch", "prepare", "SETTLE_STARTS", "SETTLE_MIN_STEPS",
@@ -210,46 +210,37 @@ def realise_batch(plan: Plan, rngs: Sequence[np.random.Generator], opts: Options
     """:func:`realise` for many samples of one plan, their floors simulated together.
 
     Sample ``k`` draws only from ``rngs[k]``, and the floor simulations of
-    all samples run as batches (:mod:`forcelayout.batching`), so each
-    placement is the one :func:`realise` gives that generator alone. The
+    all samples (on the flat path) and their tops' simulations run as
+    batches (:mod:`forcelayout.batching`), so each placement is the one
+    :func:`realise` gives that generator alone. The
     ``"floor"`` and ``"tops"`` stages of each placement are the batch's
     time on them shared equally among its samples.
     """
     prepare(plan)
-    if opts.hierarchy:
-        out = []
-        for rng in rngs:
-            floor, steps, converged, stages = sample_floor(plan, rng, opts)
-            out.append(_surfaces(plan, rng, opts, floor, steps, converged, stages, []))
-        return out
+    count = max(len(rngs), 1)
     t0 = time.perf_counter()
-    models = _Models.of(plan, opts)
-    floors = drive([_flat_floor(plan, rng, opts, models) for rng in rngs])
+    if opts.hierarchy:  # area variants assembled in the room, one sample at a time
+        floors = [(*sample_floor(plan, rng, opts), []) for rng in rngs]
+    else:
+        models = _Models.of(plan, opts)
+        flat = drive([_flat_floor(plan, rng, opts, models) for rng in rngs])
+        share = (time.perf_counter() - t0) / count
+        floors = [(poses, steps, converged, {"floor": share}, repairs)
+                  for poses, steps, converged, repairs in flat]
     t1 = time.perf_counter()
     tops: dict = {}  # the tops' force models, shared so their simulations batch
-    surfs = drive([surface_task(plan, poses, rng, relations=opts.relations, solver=opts.solver,
-                                models=tops)
-                   for rng, (poses, _, _, _) in zip(rngs, floors, strict=True)])
+    surfs = drive([surface_task(plan, floor[0], rng, relations=opts.relations,
+                                solver=opts.solver, models=tops)
+                   for rng, floor in zip(rngs, floors, strict=True)])
     t2 = time.perf_counter()
-    count = max(len(rngs), 1)
     # the samples' tops ran interleaved: each gets its share of the batch's time on tops
     alone = sum(x.stages.get("walls", 0.0) + x.stages.get("ceiling", 0.0) for x in surfs)
     top_share = max(t2 - t1 - alone, 0.0) / count
     out = []
-    for (_, steps, converged, repairs), surf in zip(floors, surfs, strict=True):
-        stages = {"floor": (t1 - t0) / count, **surf.stages}
+    for (_, steps, converged, stages, repairs), surf in zip(floors, surfs, strict=True):
+        stages = {**stages, **surf.stages}
         if "tops" in stages:
             stages["tops"] = top_share
         out.append(Placement(surf.poses, steps + surf.steps, converged and surf.converged,
                              surf.missing, stages, repairs))
     return out
-
-
-def _surfaces(plan: Plan, rng: np.random.Generator, opts: Options, floor: dict[str, Pose],
-              steps: int, converged: bool, stages: dict[str, float], repairs: list[str]
-              ) -> Placement:
-    surf = place_surfaces(plan, floor, rng, relations=opts.relations, solver=opts.solver)
-    stages = dict(stages)
-    stages.update(surf.stages)
-    return Placement(surf.poses, steps + surf.steps, converged and surf.converged,
-                     surf.missing, stages, repairs)

@@ -184,10 +184,6 @@ def _options(options: Options | None, kwargs: dict[str, Any]) -> Options:
     return opts
 
 
-def _sample(plan: Plan, seed: int, opts: Options) -> Layout:
-    return _samples(plan, [seed], opts)[0]
-
-
 def _samples(plan: Plan, seeds: list[int], opts: Options) -> list[Layout]:
     """Samples of the given seeds as one batch; a sample that fails says why, the run goes on."""
     try:

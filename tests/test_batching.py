@@ -300,3 +300,31 @@ def test_floor_checks_are_reused_only_within_a_batch():
     finally:
         checks._floor_checks = real
     assert second.failures == first.failures
+
+
+def test_a_term_without_a_stacked_form_runs_once_per_sample():
+    """A user's force term (no ``stack`` method) sees one sample's state at a time."""
+    seen = []
+
+    class Pull:
+        annealed = False
+
+        def __call__(self, state, temperature):
+            seen.append(state.samples)
+            f = np.zeros((state.n, 2))
+            f[:, 0] = 0.05 * (state.room.centroid[0] - state.pos[:, 0])
+            return f, np.zeros(state.n)
+
+    model = ForceModel(fl.load_plan(ROOM))
+    model.add_term(Pull())
+    pos, yaw = _starts(model, 3)
+    stack = model.stacked(3)
+    f, _ = stack.net(stack.state(pos.reshape(-1, 2), yaw.reshape(-1)))
+    assert seen == [1, 1, 1]
+    for b in range(3):
+        f1, _ = model.net(model.state(pos[b], yaw[b]))
+        assert np.array_equal(f[b * model.n:(b + 1) * model.n], f1)
+    together = simulate_batch(model, pos, yaw, SolverConfig(max_steps=20))
+    assert [r.steps for r in together] == [simulate(model, pos[b], yaw[b],
+                                                    SolverConfig(max_steps=20)).steps
+                                           for b in range(3)]

@@ -655,10 +655,12 @@ class ProposeRequest:
     spread: float
 
     def key(self) -> tuple:
+        """Requests with equal keys are placed as one batch."""
         return (id(self.placer), self.tries, self.spread)
 
     @staticmethod
     def run(requests: list[ProposeRequest]) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Start poses ``(pos, yaw)`` for each request of one key, placed together."""
         first = requests[0]
         n = first.placer.model.n
         pos = np.zeros((len(requests), n, 2))

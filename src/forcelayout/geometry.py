@@ -242,13 +242,34 @@ def box_separation(ca: np.ndarray, cb: np.ndarray) -> np.ndarray:
         Signed clearance in metres.
     """
     ca, cb = np.broadcast_arrays(ca, cb)
-    axes = np.stack([ca[..., 1, :] - ca[..., 0, :], ca[..., 3, :] - ca[..., 0, :],
-                     cb[..., 1, :] - cb[..., 0, :], cb[..., 3, :] - cb[..., 0, :]], axis=-2)
-    axes = axes / np.maximum(np.linalg.norm(axes, axis=-1, keepdims=True), 1e-12)
-    pa = np.einsum("...ck,...ak->...ac", ca, axes)  # (..., 4 axes, 4 corners)
-    pb = np.einsum("...ck,...ak->...ac", cb, axes)
+    ax, ay, bx, by = ca[..., 0], ca[..., 1], cb[..., 0], cb[..., 1]  # (..., 4 corners)
+    # the two edge directions of each rectangle, as unit vectors: (..., 4 axes)
+    ux = np.stack([ax[..., 1] - ax[..., 0], ax[..., 3] - ax[..., 0],
+                   bx[..., 1] - bx[..., 0], bx[..., 3] - bx[..., 0]], axis=-1)
+    uy = np.stack([ay[..., 1] - ay[..., 0], ay[..., 3] - ay[..., 0],
+                   by[..., 1] - by[..., 0], by[..., 3] - by[..., 0]], axis=-1)
+    norm = np.maximum(np.sqrt(ux * ux + uy * uy), 1e-12)
+    ux, uy = (ux / norm)[..., :, None], (uy / norm)[..., :, None]
+    pa = ax[..., None, :] * ux + ay[..., None, :] * uy  # (..., 4 axes, 4 corners)
+    pb = bx[..., None, :] * ux + by[..., None, :] * uy
     gap = np.maximum(pb.min(-1) - pa.max(-1), pa.min(-1) - pb.max(-1))
     return gap.max(-1)
+
+
+_NEXT_CORNER = np.array([1, 2, 3, 0])
+
+
+def _corner_edge_dist2(px: np.ndarray, py: np.ndarray, qx: np.ndarray, qy: np.ndarray
+                       ) -> np.ndarray:
+    """Smallest squared distance from the corners ``p`` (..., 4) of one rectangle to the
+    edges of the other, ``q[k] -> q[k + 1]``; the arithmetic of
+    :func:`point_segment_distance`, one coordinate at a time."""
+    sx, sy = qx[..., None, :], qy[..., None, :]  # (..., 1, 4 edges)
+    ex, ey = qx[..., _NEXT_CORNER][..., None, :] - sx, qy[..., _NEXT_CORNER][..., None, :] - sy
+    vx, vy = px[..., :, None] - sx, py[..., :, None] - sy  # (..., 4 corners, 4 edges)
+    t = np.clip((vx * ex + vy * ey) / np.maximum(ex * ex + ey * ey, 1e-18), 0.0, 1.0)
+    dx, dy = px[..., :, None] - (sx + t * ex), py[..., :, None] - (sy + t * ey)
+    return (dx * dx + dy * dy).min(axis=(-1, -2))
 
 
 def box_gap(ca: np.ndarray, cb: np.ndarray) -> np.ndarray:
@@ -264,12 +285,11 @@ def box_gap(ca: np.ndarray, cb: np.ndarray) -> np.ndarray:
     ndarray, shape (...)
         Distance in metres, ``>= 0``.
     """
-    ea = np.roll(ca, -1, axis=-2)
-    eb = np.roll(cb, -1, axis=-2)
-    # corners of one against every edge of the other: (..., 4 corners, 4 edges)
-    d1, _ = point_segment_distance(ca[..., :, None, :], cb[..., None, :, :], eb[..., None, :, :])
-    d2, _ = point_segment_distance(cb[..., :, None, :], ca[..., None, :, :], ea[..., None, :, :])
-    d = np.minimum(d1.min(axis=(-1, -2)), d2.min(axis=(-1, -2)))
+    ca, cb = np.broadcast_arrays(ca, cb)
+    ax, ay, bx, by = ca[..., 0], ca[..., 1], cb[..., 0], cb[..., 1]
+    # corners of each against every edge of the other (the square root of the smallest
+    # square is the smallest distance, bit for bit: the square root is monotone)
+    d = np.sqrt(np.minimum(_corner_edge_dist2(ax, ay, bx, by), _corner_edge_dist2(bx, by, ax, ay)))
     return np.where(box_separation(ca, cb) > 0.0, d, 0.0)
 
 

@@ -246,7 +246,11 @@ def _wall_candidates(
     weight = np.where(ok, room.length, 0.0)
     if weight.sum() <= 0:
         weight = room.length.copy()
-    walls = rng.choice(room.n_walls, size=k, p=weight / weight.sum())
+    # rng.choice(n_walls, size=k, p=weight / weight.sum()), draw for draw, without its
+    # checks of p (a fifth of the cost on these few walls)
+    cdf = np.cumsum(weight / weight.sum())
+    cdf /= cdf[-1]
+    walls = cdf.searchsorted(rng.random(k), side="right")
     slack = np.maximum(room.length[walls] - 2 * end, 0.0)
     along = end + rng.uniform(0.0, 1.0, k) * slack
     cand = room.a[walls] + room.tangent[walls] * along[:, None]

@@ -586,7 +586,7 @@ class _PathFinder:
         cost = np.where(free.ravel()[cells], 1.0, 1.0 + _BLOCKED_COST)
         m = len(cells)
         self.graph = sparse.csr_matrix((cost[indices], indices, indptr), shape=(m, m))
-        self._runs: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self._runs: dict[int, tuple[np.ndarray, list[int]]] = {}
 
     def blockers(self, key: int, source: np.ndarray, target: np.ndarray) -> list[int]:
         """Rows of ``blocked`` crossed by the cheapest path from ``source`` to ``target``.
@@ -601,15 +601,17 @@ class _PathFinder:
         if len(src) == 0 or len(dst) == 0:
             return []
         if key not in self._runs:
-            self._runs[key] = csgraph.dijkstra(self.graph, indices=src, min_only=True,
-                                               return_predecessors=True)[:2]
-        dist, pred = self._runs[key]
+            dist, pred = csgraph.dijkstra(self.graph, indices=src, min_only=True,
+                                          return_predecessors=True)[:2]
+            # the chain of predecessors is followed on Python ints
+            self._runs[key] = dist, pred.tolist()
+        dist, back = self._runs[key]
         end = dst[np.argmin(dist[dst])]
         if not np.isfinite(dist[end]):
             return []
-        path = [end]
-        while pred[path[-1]] >= 0:
-            path.append(pred[path[-1]])
+        path = [int(end)]
+        while back[path[-1]] >= 0:
+            path.append(back[path[-1]])
         cells = self.cells[np.array(path[::-1])]
         hits = self.blocked[:, cells]  # (S, L)
         crossed = np.nonzero(hits.any(1))[0]

@@ -14,9 +14,10 @@ costs; the ratio of the two says how much the library spends around it
 Printed per plan and overall (JSON; ``--markdown`` adds a table): ms per raw
 sample, mean steps, floor bodies, the bare loop's ms per sample, their ratio,
 good layouts per CPU second of one core (valid AND >= 95 % of rules met), and
-the rejection baseline's good layouts per CPU second in the same run; and the
+the rejection baseline's good layouts per CPU second in the same run; the
 peak resident memory of a worker process (``peak_mib``: the batch's memory
-shows there).
+shows there); and the three plans that take the largest shares of the suite's
+CPU, with how many good layouts they gave (``most_cpu``).
 
 Targets (speed issue): ratio <= 2 on plans of 8-20 floor objects, >= 100 good
 layouts/s/core on the bundled living room, >= 5 x the baseline's good
@@ -138,6 +139,8 @@ def overall(rows: list[dict[str, Any]]) -> dict[str, Any]:
     sized = [r for r in rows if FLOOR_RANGE[0] <= r["floor_bodies"] <= FLOOR_RANGE[1]]
     living = [r for r in rows if r["plan"] == "living_room"]
     speed = gs / bs if gs is not None and bs else None
+    # where the suite's time goes: the plans taking the largest shares of its CPU
+    costly = sorted(rows, key=lambda r: -r["cpu_seconds"])[:3]
     return {
         "plans": len(rows),
         "ms_per_sample": float(np.mean([r["ms_per_sample"] for r in rows])) if rows else None,
@@ -147,6 +150,8 @@ def overall(rows: list[dict[str, Any]]) -> dict[str, Any]:
         "baseline_good_per_s": bs,
         "speed_ratio": speed,
         "peak_mib": max((r["peak_mib"] for r in rows), default=None),
+        "most_cpu": [{"plan": r["plan"], "cpu_share": r["cpu_seconds"] / cpu if cpu > 0
+                      else None, "good": r["good"], "samples": r["samples"]} for r in costly],
         "targets": {
             "ratio": all(r["ratio"] is not None and r["ratio"] <= RATIO for r in sized)
             if sized else None,
@@ -180,6 +185,10 @@ def markdown(result: dict[str, Any]) -> str:
                  f"{t['living_room']}; >= {SPEED_SUITE:g} x the baseline over the suite "
                  f"({_num(o['speed_ratio'], 2)} x): {t['speed_suite']}. Peak memory of a "
                  f"worker process: {_num(o['peak_mib'], 0)} MiB.")
+    if o["most_cpu"]:
+        lines.append("Most of the suite's CPU: " + ", ".join(
+            f"{c['plan']} {_num(100 * (c['cpu_share'] or 0.0), 0)} % ({c['good']} of "
+            f"{c['samples']} good)" for c in o["most_cpu"]) + ".")
     return "\n".join(lines)
 
 

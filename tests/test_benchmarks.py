@@ -120,6 +120,9 @@ def test_floor_quick(tmp_path: Path) -> None:
     assert 0 <= row["good"] <= 3 and row["baseline"]["tries"] <= 60
     assert set(result["overall"]["targets"]) == {"ratio", "living_room", "speed_suite"}
     assert "| bedroom | 8 |" in rest and "| **overall** |" in rest and "Targets" in rest
+    (costly,) = result["overall"]["most_cpu"]  # the plan taking the largest share of the CPU
+    assert costly["plan"] == "bedroom" and costly["cpu_share"] == pytest.approx(1.0)
+    assert f"bedroom 100 % ({row['good']} of 3 good)" in rest
     assert json.loads(out.read_text()) == result
 
 

@@ -210,10 +210,10 @@ def _snap_to_wall(
         t = cand @ room.tangent.T - room.tangent_offset
         beyond = np.maximum(np.maximum(-t, t - room.length), 0.0)
         walls = np.argmin(np.abs(s) + beyond + (room.length < 2 * half[0]) * 100.0, axis=1)
-    n, tan = room.normal[walls], room.tangent[walls]
-    along = (cand * tan).sum(1) - room.tangent_offset[walls]
-    lo = np.minimum(half[0] + 0.01, room.length[walls] * 0.5)  # clear of the wall at its end
-    along = np.clip(along, lo, room.length[walls] - lo)
+    n, tan, length = room.normal[walls], room.tangent[walls], room.length[walls]
+    along = cand[:, 0] * tan[:, 0] + cand[:, 1] * tan[:, 1] - room.tangent_offset[walls]
+    lo = np.minimum(half[0] + 0.01, length * 0.5)  # clear of the wall at its end
+    along = np.minimum(np.maximum(along, lo), length - lo)
     pos = room.a[walls] + tan * along[:, None] + n * (half[1] + 0.01)
     return pos, _yaw_facing(n)
 

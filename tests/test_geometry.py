@@ -7,7 +7,14 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from forcelayout.geometry import box_corners, box_gap, box_separation
+from forcelayout.geometry import (
+    box_corners,
+    box_gap,
+    box_separation,
+    front_vectors,
+    obb_gap,
+    right_vectors,
+)
 
 coord = st.floats(-3.0, 3.0, allow_nan=False)
 extent = st.floats(0.05, 1.5, allow_nan=False)
@@ -45,3 +52,18 @@ def test_box_gap_broadcasts_pairwise(boxes):
         for j in range(len(boxes)):
             assert table[i, j] == box_gap(c[i], c[j])
             assert sep[i, j] == box_separation(c[i], c[j])
+
+
+@settings(max_examples=300, deadline=None)
+@given(a=box, b=box)
+def test_obb_gap_is_box_gap_from_the_axes(a, b):
+    """The fast form from centres, axes and half extents, against the corners' form."""
+    ca, cb = _corners(a), _corners(b)
+    ya, yb = np.array([a[2]]), np.array([b[2]])
+    got = obb_gap(np.array([[b[0] - a[0], b[1] - a[1]]]), right_vectors(ya), front_vectors(ya),
+                  np.array([[a[3], a[4]]]), right_vectors(yb), front_vectors(yb),
+                  np.array([[b[3], b[4]]]))[0]
+    want = float(box_gap(ca, cb))
+    assert abs(got - want) < 1e-9
+    if shapely.Polygon(ca).intersection(shapely.Polygon(cb)).area > 1e-9:
+        assert got == 0.0

@@ -354,7 +354,8 @@ class State:
         Exact distance between the two oriented rectangles, negative values
         are clipped to 0. Vectorised over index arrays of equal shape.
         """
-        return geo.box_gap(self.corners[i], self.corners[j])
+        return geo.obb_gap(self.pos[j] - self.pos[i], self.right[i], self.front[i],
+                           self.half[i], self.right[j], self.front[j], self.half[j])
 
     def invalidate(self) -> None:
         """Drop cached derived arrays after ``pos`` or ``yaw`` changed."""

@@ -203,7 +203,7 @@ def obb_gap(
     hb: np.ndarray,
 ) -> np.ndarray:
     """Exact clearance between oriented rectangles given by their axes (0 where they touch
-    or overlap): the fast form of :func:`box_gap`.
+    or overlap); :func:`box_gap` takes their corners.
 
     Each rectangle's corners are taken into the other's frame, where the
     distance from a corner to the rectangle is that of a point to an
@@ -322,24 +322,21 @@ def box_separation(ca: np.ndarray, cb: np.ndarray) -> np.ndarray:
     return gap.max(-1)
 
 
-_NEXT_CORNER = np.array([1, 2, 3, 0])
-
-
-def _corner_edge_dist2(px: np.ndarray, py: np.ndarray, qx: np.ndarray, qy: np.ndarray
-                       ) -> np.ndarray:
-    """Smallest squared distance from the corners ``p`` (..., 4) of one rectangle to the
-    edges of the other, ``q[k] -> q[k + 1]``; the arithmetic of
-    :func:`point_segment_distance`, one coordinate at a time."""
-    sx, sy = qx[..., None, :], qy[..., None, :]  # (..., 1, 4 edges)
-    ex, ey = qx[..., _NEXT_CORNER][..., None, :] - sx, qy[..., _NEXT_CORNER][..., None, :] - sy
-    vx, vy = px[..., :, None] - sx, py[..., :, None] - sy  # (..., 4 corners, 4 edges)
-    t = np.clip((vx * ex + vy * ey) / np.maximum(ex * ex + ey * ey, 1e-18), 0.0, 1.0)
-    dx, dy = px[..., :, None] - (sx + t * ex), py[..., :, None] - (sy + t * ey)
-    return (dx * dx + dy * dy).min(axis=(-1, -2))
+def _frame_of(c: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Centres, unit right and front axes and half extents of rectangles given by their
+    corners (..., 4, 2), CCW from back-left."""
+    along, across = c[..., 1, :] - c[..., 0, :], c[..., 3, :] - c[..., 0, :]
+    w = np.sqrt(_dot(along, along))
+    d = np.sqrt(_dot(across, across))
+    half = 0.5 * np.stack([w, d], axis=-1)
+    return (0.5 * (c[..., 0, :] + c[..., 2, :]), along / np.maximum(w, 1e-12)[..., None],
+            across / np.maximum(d, 1e-12)[..., None], half)
 
 
 def box_gap(ca: np.ndarray, cb: np.ndarray) -> np.ndarray:
     """Exact clearance between oriented rectangles (0 where they touch or overlap).
+
+    :func:`obb_gap` of the rectangles' centres, axes and half extents.
 
     Parameters
     ----------
@@ -351,12 +348,10 @@ def box_gap(ca: np.ndarray, cb: np.ndarray) -> np.ndarray:
     ndarray, shape (...)
         Distance in metres, ``>= 0``.
     """
-    ca, cb = np.broadcast_arrays(ca, cb)
-    ax, ay, bx, by = ca[..., 0], ca[..., 1], cb[..., 0], cb[..., 1]
-    # corners of each against every edge of the other (the square root of the smallest
-    # square is the smallest distance, bit for bit: the square root is monotone)
-    d = np.sqrt(np.minimum(_corner_edge_dist2(ax, ay, bx, by), _corner_edge_dist2(bx, by, ax, ay)))
-    return np.where(box_separation(ca, cb) > 0.0, d, 0.0)
+    ca, cb = np.broadcast_arrays(np.asarray(ca, dtype=float), np.asarray(cb, dtype=float))
+    pa, ra, fa, ha = _frame_of(ca)
+    pb, rb, fb, hb = _frame_of(cb)
+    return obb_gap(pb - pa, ra, fa, ha, rb, fb, hb)
 
 
 def footprint_polygon(corners: np.ndarray) -> shapely.Polygon:

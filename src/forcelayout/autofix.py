@@ -31,7 +31,12 @@ itself and asks the model again only about what needs a choice:
 * an off-floor rule that cannot hold is dropped (the object stays on the
   floor): a second surface for one object, a child larger than its
   parent's top (a sofa on a coffee table), a child resting on its own
-  descendant.
+  descendant;
+* an object bound near a door or a window with no spot within the rule's
+  reach clear of the door swings and of the zones in front of windows whose
+  sill is below it (:func:`forcelayout.sanity.out_of_reach`: a desk at a
+  wall near a low window that fills most of its wall) gets the least wider
+  reach that leaves a spot, up to three times its own.
 
 What these fixes know about rules (aliases, the rule a feature of the room
 means, corner rules and their fallback, close and far rules) is read from
@@ -66,7 +71,8 @@ import re
 from typing import Any
 
 from forcelayout import rules as registry
-from forcelayout.plan import SceneObject
+from forcelayout.errors import PlanError
+from forcelayout.plan import Plan, SceneObject
 from forcelayout.rules import Rule
 from forcelayout.sanity import (
     AREA_SLACK,
@@ -77,6 +83,7 @@ from forcelayout.sanity import (
     category_key,
     convex_corners,
     names_the_room,
+    out_of_reach,
     room_kind,
 )
 from forcelayout.surfaces.tops import holds
@@ -601,4 +608,21 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
     if isinstance(room, dict):
         _fix_room_size(out, room, notes)
         _fix_openings(room, notes)
+    _fix_reach(out, notes)
     return out, notes
+
+
+def _fix_reach(out: dict[str, Any], notes: list[str]) -> None:
+    """Rules that bind an object near a door or a window no spot within their reach allows
+    (:func:`forcelayout.sanity.out_of_reach`) get the least wider reach that leaves one."""
+    try:
+        plan = Plan.from_dict(out)
+    except PlanError:
+        return  # validation reports what is wrong first
+    for u in out_of_reach(plan):
+        r = out["rules"][u.rule]
+        if u.wider is None or not isinstance(r, dict):
+            continue
+        r["params"] = {**(r.get("params") or {}), u.param: u.wider}
+        notes.append(f"rules[{u.rule}] ({r.get('rule')}).params.{u.param}: {u.reach:g} -> "
+                     f"{u.wider:g} m ({u.finding.message.split(': ', 1)[1]})")

@@ -35,13 +35,20 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
+import numpy as np
+import shapely
+from pydantic import ValidationError
+
+from forcelayout import geometry as geo
 from forcelayout import rules as registry
 from forcelayout.errors import UnknownRuleError
-from forcelayout.plan import Plan
+from forcelayout.plan import Plan, RuleSpec
 from forcelayout.rules import Rule
+from forcelayout.rules.base import ParamArrays, State
 
-__all__ = ["Finding", "plan_findings", "CATEGORY_SIZES", "ROOM_AREAS", "ROOM_FURNITURE",
-           "OPENING_WORDS", "names_the_room", "category_key", "convex_corners", "room_kind",
+__all__ = ["Finding", "plan_findings", "OutOfReach", "out_of_reach", "SPOT_STEP",
+           "CATEGORY_SIZES", "ROOM_AREAS", "ROOM_FURNITURE", "OPENING_WORDS",
+           "names_the_room", "category_key", "convex_corners", "room_kind",
            "usual_size", "Severity", "MAX_TARGETS"]
 
 Severity = Literal["infeasible", "implausible"]
@@ -141,6 +148,15 @@ AREA_SLACK = 1.3      # a floor area is "far" from its room type's range beyond 
 _MAX_ASPECT = 2.5      # longer side / shorter side of an ordinary room
 #: Distinct targets of one positional relation (``left_of``, ``around``, ...) per object.
 MAX_TARGETS = 2
+#: Step of the sweep over the spots of an object bound near a door or a window, metres.
+SPOT_STEP = 0.05
+#: A spot this close to a clearance zone or past the floor's edge still counts as clear
+#: (the checks tolerate a sliver of overlap), metres.
+_SPOT_SLACK = 0.02
+#: Spots judged for clearance at a time (the sweep stops at the first clear one).
+_SPOT_CHUNK = 256
+#: Reaches tried, as multiples of the rule's own, to say which one would leave a spot.
+_REACH_FACTORS = (1.25, 1.5, 2.0, 3.0)
 
 
 
@@ -435,11 +451,210 @@ def _rule_findings(plan: Plan) -> Iterable[Finding]:
                           refs=tuple(f"rules[{j}]" for j in ks))
 
 
+def _spots(room: geo.RoomGeometry, size: np.ndarray, at_wall: bool
+           ) -> tuple[np.ndarray, np.ndarray]:
+    """Poses (M, 2) and headings (M,) an object of ``size`` could take, swept every
+    :data:`SPOT_STEP`: backs against each wall along its length with ``at_wall``, else a
+    grid over the floor's bounds at headings square to each wall."""
+    w, d = float(size[0]), float(size[1])
+    if at_wall:
+        pos, yaw = [], []
+        for k in range(room.n_walls):
+            t = np.arange(0.5 * w, room.length[k] - 0.5 * w + 1e-9, SPOT_STEP)
+            n = room.normal[k]
+            pos.append(room.a[k] + t[:, None] * room.tangent[k] + (0.5 * d + 1e-3) * n)
+            yaw.append(np.full(len(t), math.atan2(-n[0], n[1])))
+        return np.concatenate(pos).reshape(-1, 2), np.concatenate(yaw)
+    lo, hi = room.bounds[:2], room.bounds[2:]
+    gx, gy = np.meshgrid(np.arange(lo[0], hi[0] + 1e-9, SPOT_STEP),
+                         np.arange(lo[1], hi[1] + 1e-9, SPOT_STEP))
+    grid = np.stack([gx.ravel(), gy.ravel()], axis=1)
+    turns = np.unique(np.round(np.mod(np.arctan2(room.tangent[:, 1], room.tangent[:, 0]),
+                                      0.5 * np.pi), 6))
+    pos = np.concatenate([grid] * len(turns))
+    return pos, np.repeat(turns, len(grid))
+
+
+def _clear_spots(plan: Plan, room: geo.RoomGeometry, height: float, pos: np.ndarray,
+                 yaw: np.ndarray, size: np.ndarray) -> np.ndarray:
+    """Which footprints lie inside the floor and clear of the door swing squares and the
+    zones of the windows whose sill is below ``height`` (what the checks ask)."""
+    from forcelayout.validate import window_zones
+
+    c, s = np.cos(yaw), np.sin(yaw)
+    rgt, fwd = np.stack([c, s], axis=1), np.stack([-s, c], axis=1)
+    half = 0.5 * np.asarray(size[:2], dtype=float)
+    corners = geo.corners_from_axes(pos, rgt, fwd, np.broadcast_to(half, pos.shape))
+    floor = room.shape.buffer(_SPOT_SLACK)
+    shapely.prepare(floor)
+    ok = shapely.contains(floor, shapely.polygons(corners))
+    zc, zr, zf, zh, sill = window_zones(plan.room)
+    keep = (zh[:, 1] > 0) & (sill < height - 1e-9)
+    dc, dr, df, dh = room.door_squares
+    zc, zr, zf, zh = (np.concatenate([a[keep], b]) for a, b in
+                      ((zc, dc), (zr, dr), (zf, df), (zh, dh)))
+    if len(zc):
+        sep = geo.obb_separation(zc[None] - pos[:, None], rgt[:, None], fwd[:, None],
+                                 half[None, None], zr[None], zf[None], zh[None])
+        ok &= sep.min(axis=1) >= -_SPOT_SLACK
+    return ok
+
+
+class _Spots:
+    """The swept spots of one object bound near an opening, judged by its rules' own checks
+    and, lazily and once each, by the clearance the checks ask of them."""
+
+    def __init__(self, plan: Plan, geom: geo.RoomGeometry, size: np.ndarray, rule: Rule,
+                 walls: list[tuple[int, Rule, object]]):
+        self.plan, self.geom, self.size, self.rule, self.walls = plan, geom, size, rule, walls
+        self.pos, self.yaw = _spots(geom, size, bool(walls))
+        m = len(self.pos)
+        self.state = State(self.pos, self.yaw, np.repeat(size[None], m, axis=0), geom)
+        self.at_wall = np.ones(m, dtype=bool)
+        for _, wall_rule, wall_params in walls:
+            self.at_wall &= self._satisfied(wall_rule, wall_params)
+        self.tested = np.zeros(m, dtype=bool)  # spots whose clearance is known
+        self.clear = np.zeros(m, dtype=bool)
+
+    def _satisfied(self, rule: Rule, params: object) -> np.ndarray:
+        m = len(self.pos)
+        return rule.satisfied(self.state, np.arange(m), None,
+                              ParamArrays.from_models([params] * m, np.ones(m)))
+
+    def any_met(self, params: object) -> bool:
+        """Whether a clear spot meets the rule with ``params`` (and the wall rules); the
+        clearance is judged a few hundred spots at a time until one is clear."""
+        near = self.at_wall & self._satisfied(self.rule, params)
+        if (near & self.clear).any():
+            return True
+        todo = np.flatnonzero(near & ~self.tested)
+        for first in range(0, len(todo), _SPOT_CHUNK):
+            k = todo[first:first + _SPOT_CHUNK]
+            self.clear[k] = _clear_spots(self.plan, self.geom, float(self.size[2]),
+                                         self.pos[k], self.yaw[k], self.size)
+            self.tested[k] = True
+            if self.clear[k].any():
+                return True
+        return False
+
+
+@dataclass(frozen=True)
+class OutOfReach:
+    """A rule that binds an object near a door or a window no spot within its reach allows.
+
+    Attributes
+    ----------
+    rule : int
+        Index of the rule in ``plan.rules``.
+    param : str
+        The rule's parameter that sets its reach (``StartHint.reach``, e.g. ``"distance"``).
+    reach : float
+        Its value, metres.
+    wider : float or None
+        The least reach of those tried (up to 3 times the rule's own, rounded up to
+        5 cm) that leaves a spot, or None.
+    finding : Finding
+        What :func:`plan_findings` says about it.
+    """
+
+    rule: int
+    param: str
+    reach: float
+    wider: float | None
+    finding: Finding
+
+
+def out_of_reach(plan: Plan) -> list[OutOfReach]:
+    """Objects bound near a door or a window with no spot within the rule's reach.
+
+    For each rule whose start hint places its object at a ``"door"`` or a
+    ``"window"`` within a ``reach`` (``near_door``, ``near_window``, plugins
+    that declare the same), the object's spots are swept every
+    :data:`SPOT_STEP` — along the walls with their backs to them when a rule
+    with start place ``"wall"`` binds it too (``at_wall``), else over the
+    floor — and judged by those rules' own checks and by the clearance the
+    checks ask: inside the floor, clear of the door swings and of the zones
+    in front of windows whose sill is below the object. A rule no clear spot
+    meets is listed, with the least wider reach (of 1.25, 1.5, 2 and 3 times
+    its own) that would leave one.
+
+    Parameters
+    ----------
+    plan : Plan
+
+    Returns
+    -------
+    list of OutOfReach
+        In the order of ``plan.rules``.
+    """
+    room = plan.room
+    if not room.doors and not room.windows:
+        return []
+    geom = geo.RoomGeometry.from_room(room)
+    obstacles = {o.id for o in plan.floor_objects() if not o.is_walkable}
+
+    def unary(spec: RuleSpec) -> tuple[Rule, object] | None:
+        rule = _rule(spec.rule)
+        if rule is None or spec.target is not None:
+            return None
+        try:
+            return rule, rule.Params.model_validate(dict(spec.params or {}))
+        except ValidationError:
+            return None
+
+    out: list[OutOfReach] = []
+    for k, spec in enumerate(plan.rules):
+        got = unary(spec) if spec.object in obstacles else None
+        hint = getattr(got[0], "start", None) if got else None
+        if got is None or hint is None or hint.place not in ("door", "window") or \
+                not hint.reach:
+            continue
+        rule, params = got
+        walls = [(j, *w) for j, r in enumerate(plan.rules)
+                 if r.object == spec.object and (w := unary(r)) is not None
+                 and w[0].start is not None and w[0].start.place == "wall"]
+        size = np.asarray(plan.object(spec.object).size, dtype=float)
+        reach = float(getattr(params, hint.reach))
+        try:
+            spots = _Spots(plan, geom, size, rule, walls)
+            if spots.any_met(params):
+                continue
+            wider = next((math.ceil(f * reach * 20 - 1e-9) / 20 for f in _REACH_FACTORS
+                          if spots.any_met(params.model_copy(update={
+                              hint.reach: math.ceil(f * reach * 20 - 1e-9) / 20}))), None)
+        except Exception:  # noqa: BLE001 - a plugin rule whose check needs more than a
+            continue  # lone object's pose: nothing said rather than no findings at all
+        low = any(w.sill < size[2] - 1e-9 and w.clearance > 0 for w in room.windows)
+        zones = " and ".join(
+            ["the door swings"] * bool(room.doors)
+            + [f"the zones in front of the windows whose sill is below its {size[2]:g} m"] * low)
+        where = "against a wall " if walls else ""
+        both = (f"{spec.rule}({spec.object}) and "
+                f"{', '.join(f'{plan.rules[j].rule}({spec.object})' for j, *_ in walls)}"
+                " cannot both be met" if walls else f"{spec.rule}({spec.object}) cannot be met")
+        fix = (f"give rules[{k}] a {hint.reach} of {wider:g} m" if wider is not None
+               else "move or narrow the openings in the way")
+        if low:
+            fix += f", make {spec.object!r} no taller than the sill"
+        fix += " or drop " + ("one of these rules" if walls else f"rules[{k}]")
+        finding = Finding(f"rules[{k}] ({spec.rule})",
+                          f"{both}: no spot {where}within {reach:g} m of a {hint.place}'s "
+                          f"centre is clear of {zones}", fix, severity="infeasible",
+                          refs=(f"rules[{k}]", *(f"rules[{j}]" for j, *_ in walls)))
+        out.append(OutOfReach(k, hint.reach, reach, wider, finding))
+    return out
+
+
 def plan_findings(plan: Plan) -> list[Finding]:
     """Everything impossible or implausible about a valid plan, infeasible first.
 
     Checks: more ``in_corner`` objects (and areas) than the floor has convex
-    corners; one object both ``far_from`` and close to the same target, or
+    corners; an object bound near a door or a window (``near_door``,
+    ``near_window``: a rule whose start hint places it there within a reach)
+    with no spot within that reach clear of the door swings and of the zones
+    in front of windows whose sill is below it (against a wall when a wall
+    rule binds it too; :func:`out_of_reach`); one object
+    both ``far_from`` and close to the same target, or
     bound by opposite rules (``in_front_of`` and ``behind``, ``at_wall`` and
     ``in_middle``, ...); duplicated rules; one object bound by one positional
     relation to more than two targets; a door or window listed as an object;
@@ -457,6 +672,8 @@ def plan_findings(plan: Plan) -> list[Finding]:
     -------
     list of Finding
     """
-    out = [*_rule_findings(plan), *_size_findings(plan), *_room_findings(plan)]
+    out = [*_rule_findings(plan), *(u.finding for u in out_of_reach(plan)),
+           *_size_findings(plan),
+           *_room_findings(plan)]
     return sorted(out, key=lambda f: f.severity != "infeasible")
 

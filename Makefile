@@ -9,7 +9,7 @@ STAMP := $(VENV)/.installed
 $(STAMP): pyproject.toml
 	$(PY) -m venv $(VENV)
 	$(BIN)/pip install --quiet --upgrade pip
-	$(BIN)/pip install --quiet -e ".[dev,llm,export,dask]"
+	$(BIN)/pip install --quiet -e ".[dev,fast,llm,export,dask]"
 	$(BIN)/pip install --quiet -e examples/plugin
 	touch $(STAMP)
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -67,3 +68,54 @@ def test_obb_gap_is_box_gap_from_the_axes(a, b):
     assert abs(got - want) < 1e-9
     if shapely.Polygon(ca).intersection(shapely.Polygon(cb)).area > 1e-9:
         assert got == 0.0
+
+
+def _axes_of(boxes: list[tuple[float, ...]]) -> tuple[np.ndarray, ...]:
+    b = np.array(boxes, dtype=float).reshape(-1, 5)
+    yaw = b[:, 2]
+    return b[:, :2], right_vectors(yaw), front_vectors(yaw), b[:, 3:]
+
+
+@settings(max_examples=100, deadline=None)
+@given(boxes=st.lists(box, min_size=1, max_size=7), others=st.lists(box, min_size=1, max_size=5))
+def test_compiled_kernels_equal_the_numpy_forms_bit_for_bit(boxes, others):
+    """With numba (forcelayout[fast]) the kernels give the numpy forms' values exactly, on
+    broadcast views as the callers pass them (candidates x placed objects)."""
+    pytest.importorskip("numba")
+    from forcelayout import _compiled
+    from forcelayout import geometry as geo
+
+    fast = _compiled.kernels()
+    assert fast is not None
+    pa, ra, fa, ha = _axes_of(boxes)
+    pb, rb, fb, hb = _axes_of(others)
+    args = (pb[None] - pa[:, None], ra[:, None], fa[:, None], ha[:, None], rb[None], fb[None],
+            hb[None])
+    for name in ("obb_separation", "obb_gap"):
+        want = getattr(geo, "_" + name)(*args)
+        got = getattr(fast, name)(*args)
+        assert got.shape == want.shape == (len(boxes), len(others))
+        assert np.array_equal(got, want), name
+        assert np.array_equal(getattr(geo, name)(*args), want)  # the public form uses them
+
+
+def test_the_compiled_kernels_switch_off_and_layouts_do_not_change():
+    """FORCELAYOUT_COMPILED=0 runs the numpy forms; the layouts are the same bit for bit."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    pytest.importorskip("numba")
+    code = ("import json, forcelayout as fl; from forcelayout import _compiled;"
+            "ls = fl.sampling.solve_many(fl.load_plan('living_room'), [1, 2, 3]);"
+            "print(json.dumps([_compiled.kernels() is not None,"
+            " [l.to_dict()['objects'] for l in ls]]))")
+    out = {}
+    for flag in ("1", "0"):
+        env = {**os.environ, "FORCELAYOUT_COMPILED": flag}
+        run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                             text=True, check=True)
+        out[flag] = json.loads(run.stdout)
+    assert out["1"][0] is True and out["0"][0] is False
+    assert out["1"][1] == out["0"][1]

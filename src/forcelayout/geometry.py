@@ -17,6 +17,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 import shapely
 
+from forcelayout._compiled import kernels
+
 if TYPE_CHECKING:
     from forcelayout.plan import Room
 
@@ -167,7 +169,21 @@ def obb_separation(
     -------
     ndarray, shape (...)
         Signed clearance in metres (negative: overlap depth).
+
+    Notes
+    -----
+    With numba installed (``forcelayout[fast]``) a compiled kernel computes
+    it, the same bit for bit for finite inputs (:mod:`forcelayout._compiled`).
     """
+    fast = kernels()
+    if fast is not None:
+        return fast.obb_separation(d, ra, fa, ha, rb, fb, hb)
+    return _obb_separation(d, ra, fa, ha, rb, fb, hb)
+
+
+def _obb_separation(d: np.ndarray, ra: np.ndarray, fa: np.ndarray, ha: np.ndarray,
+                    rb: np.ndarray, fb: np.ndarray, hb: np.ndarray) -> np.ndarray:
+    """:func:`obb_separation` in numpy."""
     c = np.abs(_dot(ra, rb))
     s = np.abs(_dot(ra, fb))
     hax, hay, hbx, hby = ha[..., 0], ha[..., 1], hb[..., 0], hb[..., 1]
@@ -224,7 +240,21 @@ def obb_gap(
     -------
     ndarray, shape (...)
         Distance in metres, ``>= 0``.
+
+    Notes
+    -----
+    With numba installed (``forcelayout[fast]``) a compiled kernel computes
+    it, the same bit for bit for finite inputs (:mod:`forcelayout._compiled`).
     """
+    fast = kernels()
+    if fast is not None:
+        return fast.obb_gap(d, ra, fa, ha, rb, fb, hb)
+    return _obb_gap(d, ra, fa, ha, rb, fb, hb)
+
+
+def _obb_gap(d: np.ndarray, ra: np.ndarray, fa: np.ndarray, ha: np.ndarray, rb: np.ndarray,
+             fb: np.ndarray, hb: np.ndarray) -> np.ndarray:
+    """:func:`obb_gap` in numpy."""
     rr, rf, fr, ff = _dot(ra, rb), _dot(ra, fb), _dot(fa, rb), _dot(fa, fb)
     # B in A's frame (its axes there: right (ra.rb, fa.rb), front (ra.fb, fa.fb)), and A in B's
     bx, by = _corners_in_frame(_dot(d, ra), _dot(d, fa), rr, fr, rf, ff, hb[..., 0], hb[..., 1])

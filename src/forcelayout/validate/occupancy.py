@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from forcelayout._compiled import kernels
 from forcelayout.geometry import RoomGeometry, point_segment_distance
 
 if TYPE_CHECKING:
@@ -199,11 +200,20 @@ def footprint_distance(
 def _footprint_dist2(
     xs: np.ndarray, ys: np.ndarray, pos: np.ndarray, yaw: np.ndarray, half: np.ndarray
 ) -> np.ndarray:
-    """Squared form of :func:`footprint_distance`, in float32 (m²)."""
+    """Squared form of :func:`footprint_distance`, in float32 (m²); a compiled loop where
+    numba is installed (:mod:`forcelayout._compiled`, the same values bit for bit)."""
     f = np.float32
     xs, ys = np.asarray(xs, dtype=f), np.asarray(ys, dtype=f)
     pos, half = np.asarray(pos, dtype=f), np.asarray(half, dtype=f)
     yaw = np.asarray(yaw, dtype=f)
+    fast = kernels()
+    if fast is not None:
+        def flat(a: np.ndarray) -> np.ndarray:
+            return np.ascontiguousarray(a, dtype=f).reshape(-1)
+
+        return fast.footprint_dist2(flat(xs), flat(ys), flat(pos[:, 0]), flat(pos[:, 1]),
+                                    flat(np.cos(yaw)), flat(np.sin(yaw)), flat(half[:, 0]),
+                                    flat(half[:, 1]))
     c = np.cos(yaw)[:, None, None]
     s = np.sin(yaw)[:, None, None]
     dx = xs[None, None, :] - pos[:, 0, None, None]  # (N, 1, W)

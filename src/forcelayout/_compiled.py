@@ -1,0 +1,133 @@
+"""Compiled kernels of the hottest footprint geometry, used when numba is installed.
+
+``pip install "forcelayout[fast]"`` adds numba; :mod:`forcelayout.geometry`
+then computes :func:`~forcelayout.geometry.obb_separation` and
+:func:`~forcelayout.geometry.obb_gap` with the numba generalised ufuncs
+below instead of a few dozen numpy operations on temporaries, and
+:mod:`forcelayout.validate` the distance of every free-floor grid cell to
+every footprint with a compiled loop. The ufuncs broadcast like the numpy
+forms; every kernel does the same floating-point operations in the same
+order and precision, so results are the same bit for bit
+(tests/test_geometry.py checks it): layouts do not depend on whether numba
+is installed.
+
+The kernels compile on first use and numba caches the machine code on disk
+(next to this file, or in the user's cache directory where that is not
+writable), so later processes load it in about half a second. The
+environment variable ``FORCELAYOUT_COMPILED`` chooses: unset, the kernels
+are used when numba is installed; ``0``, the numpy forms are used even
+then; ``1``, numba is required (an ImportError names the extra).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from types import SimpleNamespace
+from typing import Any
+
+import numpy as np
+
+__all__ = ["kernels", "ENV"]
+
+#: Environment variable that switches the compiled kernels off (``0``).
+ENV = "FORCELAYOUT_COMPILED"
+
+_LOADED: list[Any] = []  # [namespace of kernels, or None when numba is absent or off]
+
+
+def kernels() -> SimpleNamespace | None:
+    """The compiled kernels (``obb_separation``, ``obb_gap``, ``footprint_dist2``), or None
+    without numba.
+
+    Compiled (or loaded from numba's cache) on the first call in a process.
+    """
+    if not _LOADED:
+        want = os.environ.get(ENV, "").strip()
+        _LOADED.append(None if want == "0" else _compile(required=want == "1"))
+    return _LOADED[0]
+
+
+def _compile(*, required: bool) -> SimpleNamespace | None:
+    try:
+        from numba import float32, float64, guvectorize, njit
+    except ImportError:
+        if required:
+            from forcelayout._optional import import_optional
+
+            import_optional("numba", "fast")  # raises, naming the extra
+        return None
+    sig = [(float64[:],) * 8]
+    layout = "(n),(n),(n),(n),(n),(n),(n)->()"
+
+    @guvectorize(sig, layout, nopython=True, cache=True)
+    def obb_separation(d, ra, fa, ha, rb, fb, hb, out):  # pragma: no cover - compiled
+        # geometry.obb_separation, one pair at a time, operation for operation
+        c = abs(ra[0] * rb[0] + ra[1] * rb[1])
+        s = abs(ra[0] * fb[0] + ra[1] * fb[1])
+        hax, hay, hbx, hby = ha[0], ha[1], hb[0], hb[1]
+        g1 = abs(d[0] * ra[0] + d[1] * ra[1]) - hax - (hbx * c + hby * s)
+        g2 = abs(d[0] * fa[0] + d[1] * fa[1]) - hay - (hbx * s + hby * c)
+        g3 = abs(d[0] * rb[0] + d[1] * rb[1]) - hbx - (hax * c + hay * s)
+        g4 = abs(d[0] * fb[0] + d[1] * fb[1]) - hby - (hax * s + hay * c)
+        out[0] = max(max(g1, g2), max(g3, g4))
+
+    @guvectorize(sig, layout, nopython=True, cache=True)
+    def obb_gap(d, ra, fa, ha, rb, fb, hb, out):  # pragma: no cover - compiled
+        # geometry.obb_gap, one pair at a time: each rectangle's corners in the other's
+        # frame (corners back-left, back-right, front-right, front-left)
+        rr = ra[0] * rb[0] + ra[1] * rb[1]
+        rf = ra[0] * fb[0] + ra[1] * fb[1]
+        fr = fa[0] * rb[0] + fa[1] * rb[1]
+        ff = fa[0] * fb[0] + fa[1] * fb[1]
+        bcx = d[0] * ra[0] + d[1] * ra[1]
+        bcy = d[0] * fa[0] + d[1] * fa[1]
+        acx = -(d[0] * rb[0] + d[1] * rb[1])
+        acy = -(d[0] * fb[0] + d[1] * fb[1])
+        hax, hay, hbx, hby = ha[0], ha[1], hb[0], hb[1]
+        bu, bv, bu2, bv2 = hbx * rr, hby * rf, hbx * fr, hby * ff  # B: axes (rr, fr), (rf, ff)
+        au, av, au2, av2 = hax * rr, hay * fr, hax * rf, hay * ff  # A: axes (rr, rf), (fr, ff)
+        bx_lo = by_lo = ax_lo = ay_lo = math.inf
+        bx_hi = by_hi = ax_hi = ay_hi = -math.inf
+        db = da = math.inf
+        for k in range(4):
+            su = -1.0 if k == 0 or k == 3 else 1.0
+            sv = -1.0 if k < 2 else 1.0
+            bx = bcx + su * bu + sv * bv
+            by = bcy + su * bu2 + sv * bv2
+            ax = acx + su * au + sv * av
+            ay = acy + su * au2 + sv * av2
+            bx_lo, bx_hi = min(bx_lo, bx), max(bx_hi, bx)
+            by_lo, by_hi = min(by_lo, by), max(by_hi, by)
+            ax_lo, ax_hi = min(ax_lo, ax), max(ax_hi, ax)
+            ay_lo, ay_hi = min(ay_lo, ay), max(ay_hi, ay)
+            ex, ey = max(abs(bx) - hax, 0.0), max(abs(by) - hay, 0.0)
+            gx, gy = max(abs(ax) - hbx, 0.0), max(abs(ay) - hby, 0.0)
+            db = min(db, ex * ex + ey * ey)
+            da = min(da, gx * gx + gy * gy)
+        sep = max(max(max(bx_lo - hax, -hax - bx_hi), max(by_lo - hay, -hay - by_hi)),
+                  max(max(ax_lo - hbx, -hbx - ax_hi), max(ay_lo - hby, -hby - ay_hi)))
+        out[0] = math.sqrt(min(db, da)) if sep > 0.0 else 0.0
+
+    v = float32[::1]
+
+    @njit(float32[:, :, ::1](v, v, v, v, v, v, v, v), cache=True)
+    def footprint_dist2(xs, ys, px, py, c, s, hx, hy):  # pragma: no cover - compiled
+        # validate.occupancy._footprint_dist2, in float32 as there: cell (h, w) against
+        # footprint n, whose cosine and sine numpy gives
+        n_obj, n_y, n_x = px.shape[0], ys.shape[0], xs.shape[0]
+        out = np.empty((n_obj, n_y, n_x), dtype=np.float32)
+        zero = np.float32(0.0)
+        for n in range(n_obj):
+            cn, sn, hxn, hyn = c[n], s[n], hx[n], hy[n]
+            for h in range(n_y):
+                dy = ys[h] - py[n]
+                for w in range(n_x):
+                    dx = xs[w] - px[n]
+                    qx = max(abs(dx * cn + dy * sn) - hxn, zero)
+                    qy = max(abs(dy * cn - dx * sn) - hyn, zero)
+                    out[n, h, w] = qx * qx + qy * qy
+        return out
+
+    return SimpleNamespace(obb_separation=obb_separation, obb_gap=obb_gap,
+                           footprint_dist2=footprint_dist2)

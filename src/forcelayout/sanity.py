@@ -455,7 +455,7 @@ def _spots(room: geo.RoomGeometry, size: np.ndarray, at_wall: bool
            ) -> tuple[np.ndarray, np.ndarray]:
     """Poses (M, 2) and headings (M,) an object of ``size`` could take, swept every
     :data:`SPOT_STEP`: backs against each wall along its length with ``at_wall``, else a
-    grid over the floor's bounds at headings square to each wall."""
+    grid over the floor's bounds at the headings that square it with each wall."""
     w, d = float(size[0]), float(size[1])
     if at_wall:
         pos, yaw = [], []
@@ -469,8 +469,9 @@ def _spots(room: geo.RoomGeometry, size: np.ndarray, at_wall: bool
     gx, gy = np.meshgrid(np.arange(lo[0], hi[0] + 1e-9, SPOT_STEP),
                          np.arange(lo[1], hi[1] + 1e-9, SPOT_STEP))
     grid = np.stack([gx.ravel(), gy.ravel()], axis=1)
-    turns = np.unique(np.round(np.mod(np.arctan2(room.tangent[:, 1], room.tangent[:, 0]),
-                                      0.5 * np.pi), 6))
+    square = np.unique(np.round(np.mod(np.arctan2(room.tangent[:, 1], room.tangent[:, 0]),
+                                       0.5 * np.pi), 6))
+    turns = np.concatenate([square, square + 0.5 * np.pi])  # either side along each wall
     pos = np.concatenate([grid] * len(turns))
     return pos, np.repeat(turns, len(grid))
 
@@ -619,9 +620,9 @@ def out_of_reach(plan: Plan) -> list[OutOfReach]:
             spots = _Spots(plan, geom, size, rule, walls)
             if spots.any_met(params):
                 continue
-            wider = next((math.ceil(f * reach * 20 - 1e-9) / 20 for f in _REACH_FACTORS
-                          if spots.any_met(params.model_copy(update={
-                              hint.reach: math.ceil(f * reach * 20 - 1e-9) / 20}))), None)
+            tries = [math.ceil(f * reach * 20 - 1e-9) / 20 for f in _REACH_FACTORS]  # 5 cm
+            wider = next((x for x in tries
+                          if spots.any_met(params.model_copy(update={hint.reach: x}))), None)
         except Exception:  # noqa: BLE001 - a plugin rule whose check needs more than a
             continue  # lone object's pose: nothing said rather than no findings at all
         low = any(w.sill < size[2] - 1e-9 and w.clearance > 0 for w in room.windows)

@@ -31,7 +31,7 @@ from __future__ import annotations
 import math
 import re
 from collections import defaultdict
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
@@ -476,38 +476,32 @@ def _spots(room: geo.RoomGeometry, size: np.ndarray, at_wall: bool
     return pos, np.repeat(turns, len(grid))
 
 
-def _clear_spots(plan: Plan, room: geo.RoomGeometry, height: float, pos: np.ndarray,
-                 yaw: np.ndarray, size: np.ndarray) -> np.ndarray:
-    """Which footprints lie inside the floor and clear of the door swing squares and the
-    zones of the windows whose sill is below ``height`` (what the checks ask)."""
+def _zones_below(plan: Plan, geom: geo.RoomGeometry) -> Callable[[float], tuple]:
+    """The zones the checks keep free of an object ``height`` tall, as boxes (centre, right,
+    front, half; each (Z, 2)): every door's swing square and the zone in front of every
+    window whose sill is below it."""
     from forcelayout.validate import window_zones
 
-    c, s = np.cos(yaw), np.sin(yaw)
-    rgt, fwd = np.stack([c, s], axis=1), np.stack([-s, c], axis=1)
-    half = 0.5 * np.asarray(size[:2], dtype=float)
-    corners = geo.corners_from_axes(pos, rgt, fwd, np.broadcast_to(half, pos.shape))
-    floor = room.shape.buffer(_SPOT_SLACK)
-    shapely.prepare(floor)
-    ok = shapely.contains(floor, shapely.polygons(corners))
     zc, zr, zf, zh, sill = window_zones(plan.room)
-    keep = (zh[:, 1] > 0) & (sill < height - 1e-9)
-    dc, dr, df, dh = room.door_squares
-    zc, zr, zf, zh = (np.concatenate([a[keep], b]) for a, b in
-                      ((zc, dc), (zr, dr), (zf, df), (zh, dh)))
-    if len(zc):
-        sep = geo.obb_separation(zc[None] - pos[:, None], rgt[:, None], fwd[:, None],
-                                 half[None, None], zr[None], zf[None], zh[None])
-        ok &= sep.min(axis=1) >= -_SPOT_SLACK
-    return ok
+    dc, dr, df, dh = geom.door_squares
+
+    def below(height: float) -> tuple[np.ndarray, ...]:
+        keep = (zh[:, 1] > 0) & (sill < height - 1e-9)
+        return tuple(np.concatenate([a[keep], b]) for a, b in
+                     ((zc, dc), (zr, dr), (zf, df), (zh, dh)))
+
+    return below
 
 
 class _Spots:
     """The swept spots of one object bound near an opening, judged by its rules' own checks
     and, lazily and once each, by the clearance the checks ask of them."""
 
-    def __init__(self, plan: Plan, geom: geo.RoomGeometry, size: np.ndarray, rule: Rule,
+    def __init__(self, geom: geo.RoomGeometry, floor: shapely.Polygon,
+                 zones: tuple[np.ndarray, ...], size: np.ndarray, rule: Rule,
                  walls: list[tuple[int, Rule, object]]):
-        self.plan, self.geom, self.size, self.rule, self.walls = plan, geom, size, rule, walls
+        self.floor, self.zones, self.rule = floor, zones, rule
+        self.half = 0.5 * size[:2]
         self.pos, self.yaw = _spots(geom, size, bool(walls))
         m = len(self.pos)
         self.state = State(self.pos, self.yaw, np.repeat(size[None], m, axis=0), geom)
@@ -531,12 +525,24 @@ class _Spots:
         todo = np.flatnonzero(near & ~self.tested)
         for first in range(0, len(todo), _SPOT_CHUNK):
             k = todo[first:first + _SPOT_CHUNK]
-            self.clear[k] = _clear_spots(self.plan, self.geom, float(self.size[2]),
-                                         self.pos[k], self.yaw[k], self.size)
+            self.clear[k] = self._clear(k)
             self.tested[k] = True
             if self.clear[k].any():
                 return True
         return False
+
+    def _clear(self, k: np.ndarray) -> np.ndarray:
+        """Which of the spots ``k`` lie inside the floor and clear of the zones (what the
+        checks ask, less :data:`_SPOT_SLACK`)."""
+        pos, rgt, fwd = self.pos[k], self.state.right[k], self.state.front[k]
+        corners = geo.corners_from_axes(pos, rgt, fwd, np.broadcast_to(self.half, pos.shape))
+        ok = shapely.contains(self.floor, shapely.polygons(corners))
+        zc, zr, zf, zh = self.zones
+        if len(zc):
+            sep = geo.obb_separation(zc[None] - pos[:, None], rgt[:, None], fwd[:, None],
+                                     self.half[None, None], zr[None], zf[None], zh[None])
+            ok &= sep.min(axis=1) >= -_SPOT_SLACK
+        return ok
 
 
 @dataclass(frozen=True)
@@ -593,6 +599,9 @@ def out_of_reach(plan: Plan) -> list[OutOfReach]:
         return []
     geom = geo.RoomGeometry.from_room(room)
     obstacles = {o.id for o in plan.floor_objects() if not o.is_walkable}
+    floor = geom.shape.buffer(_SPOT_SLACK)
+    shapely.prepare(floor)
+    zones_below = _zones_below(plan, geom)
 
     def unary(spec: RuleSpec) -> tuple[Rule, object] | None:
         rule = _rule(spec.rule)
@@ -617,7 +626,7 @@ def out_of_reach(plan: Plan) -> list[OutOfReach]:
         size = np.asarray(plan.object(spec.object).size, dtype=float)
         reach = float(getattr(params, hint.reach))
         try:
-            spots = _Spots(plan, geom, size, rule, walls)
+            spots = _Spots(geom, floor, zones_below(float(size[2])), size, rule, walls)
             if spots.any_met(params):
                 continue
             tries = [math.ceil(f * reach * 20 - 1e-9) / 20 for f in _REACH_FACTORS]  # 5 cm

@@ -151,12 +151,25 @@ def test_around_pulls_in_and_turns_to_the_table():
     assert ok and small(f, w)
 
 
-def test_around_spreads_chairs_of_one_table():
-    st = make_state([[2.3, 2.42], [1.7, 2.42], [2.0, 1.75]], [np.pi] * 3,
+def around_table(x0: float, x1: float) -> np.ndarray:
+    """The forces on two chairs at the long side of a 1.2 x 0.8 m table, at x0 and x1."""
+    st = make_state([[x0, 2.42], [x1, 2.42], [2.0, 1.75]], [np.pi] * 3,
                     [CHAIR, CHAIR, [1.2, 0.8]])
     rule, p = bind("around", 2)
     f, _ = rule.force(st, np.array([0, 1]), np.array([2, 2]), p)
+    return f
+
+
+def test_around_spreads_chairs_of_one_table_until_each_has_room():
+    f = around_table(2.15, 1.85)  # 0.5 m chairs 0.3 m apart: they overlap
     assert f[0, 0] > 0 > f[1, 0]
+
+
+def test_around_leaves_chairs_side_by_side_with_room_between():
+    # 20 cm between two chairs at one side of the table: the rule is met and the force
+    # does not push one of them round to the other side (a bench may stand there)
+    f = around_table(2.35, 1.65)
+    assert np.abs(f).max() < 1e-9
 
 
 # -- end to end through the public API -----------------------------------------------------

@@ -442,7 +442,10 @@ class Around(Rule):
     Satisfied when the footprint gap to the target is at most ``distance``
     metres and the target's centre lies within ``max_angle`` degrees of the
     object's front. Besides pulling each object in and turning it, the force
-    spreads the objects bound around the same target evenly around it.
+    pushes the objects bound around the same target apart round it until
+    each has room beside the next (their widths and 10 cm between them, at
+    most an even share of the way round): six chairs spread all round a
+    table, two may stay side by side along one of its sides.
     """
 
     closeness = "close"
@@ -471,9 +474,17 @@ class Around(Rule):
             theta = np.arctan2(-u[:, 1], -u[:, 0])
             same = mates >= 0
             k = same.sum(1) + 1
-            other = theta[np.maximum(mates, 0)]
+            m = np.maximum(mates, 0)
+            other = theta[m]
             dth = np.arctan2(np.sin(theta[:, None] - other), np.cos(theta[:, None] - other))
-            want = (2.0 * np.pi / k)[:, None]
+            # apart by the angle their widths need side by side (10 cm between them) at
+            # their distance from the target's centre, at most evenly round it: two chairs
+            # along one side of a table stay there, six spread all round
+            r = np.hypot(*(state.pos[i] - state.pos[j]).T)
+            width = state.size[i, 0] * 0.5
+            chord = width[:, None] + width[m] + 0.1
+            need = 2.0 * np.arcsin(np.minimum(1.0, chord / np.maximum(r[:, None] + r[m], 1e-6)))
+            want = np.minimum((2.0 * np.pi / k)[:, None], need)
             push = np.where(same, np.sign(dth) * np.maximum(want - np.abs(dth), 0.0), 0.0)
             tang = np.stack([u[:, 1], -u[:, 0]], axis=1)  # CCW around the target
             f += tang * (w * np.clip(push.sum(1), -CAP / GAIN, CAP / GAIN) * GAIN * 0.5)[:, None]

@@ -4,9 +4,15 @@ import numpy as np
 import pytest
 
 import forcelayout as fl
-from forcelayout.forces import ForceModel
+from forcelayout.forces import ForceModel, PhysicalTerm
 from forcelayout.geometry import RoomGeometry
-from forcelayout.rules.physical import PhysicalWeights, alignment, boundary, repulsion
+from forcelayout.rules.physical import (
+    PhysicalWeights,
+    alignment,
+    boundary,
+    door_clearance,
+    repulsion,
+)
 from forcelayout.solver import SolverConfig, simulate, temperature
 
 ROOM = {"polygon": [[0, 0], [4, 0], [4, 3.5], [0, 3.5]], "height": 2.7,
@@ -167,3 +173,29 @@ def test_a_start_overlapping_an_obstacle_is_simulated():
     res = simulate(m, pos, np.zeros(2), obstacles=[block, corner])
     assert res.steps > 0
     assert not np.allclose(res.pos[0], pos[0])
+
+
+# -- door clearance ---------------------------------------------------------------------------
+
+CORNER_DOOR = {"polygon": [[0, 0], [4, 0], [4, 3.5], [0, 3.5]], "height": 2.7,
+               "doors": [{"wall": 1, "offset": 2.9, "width": 0.8}]}  # east wall, by the corner
+
+
+def bed_by_the_corner_door(x: float):
+    """A 0.9 x 2 m bed with its head at the north wall, ``x`` from the west wall."""
+    return fl.Plan.from_dict({
+        "name": "bed", "room": CORNER_DOOR,
+        "objects": [{"id": "bed", "category": "bed", "size": [0.9, 2.0, 0.5]}],
+        "rules": [{"rule": "at_wall", "object": "bed"}]}), np.array([[x, 2.49]]), np.array([np.pi])
+
+
+def test_door_clearance_moves_a_wall_object_along_its_own_wall():
+    # the bed reaches 0.2 m into the door's entry zone from the wall across the door's:
+    # it is pushed along the north wall, away from the door, never off that wall
+    plan, pos, yaw = bed_by_the_corner_door(2.5)
+    m = ForceModel(plan)
+    term = next(t for t in m.terms if isinstance(t, PhysicalTerm))
+    st = m.state(pos, yaw)
+    f, _ = door_clearance(st, PhysicalWeights(), term.slide)
+    assert term.slide is not None and term.slide[0]
+    assert f[0, 0] < 0 and f[0, 1] == 0.0

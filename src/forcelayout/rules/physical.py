@@ -170,7 +170,8 @@ def door_clearance(state: State, w: PhysicalWeights, slide: np.ndarray | None = 
     The push runs along the square's axis of least penetration: sideways
     along the wall for an object beside the door, straight into the room for
     an object in front of it. Rows marked in ``slide`` (objects a hard rule
-    holds at a wall) are always pushed sideways.
+    holds at a wall) are pushed along their own wall: sideways when it is
+    the door's wall, through the square's far side when it runs across it.
     """
     room = state.room
     n = state.n
@@ -192,8 +193,12 @@ def door_clearance(state: State, w: PhysicalWeights, slide: np.ndarray | None = 
     pen_a = dh[None, :, 0] + ext_a - np.abs(along)  # overlap if pushed sideways
     pen_b = dh[None, :, 1] + ext_b - ahead  # overlap if pushed into the room
     sideways = pen_a <= pen_b
-    if slide is not None:  # objects held at a wall leave along it, never into the room
-        sideways |= slide[:, None]
+    if slide is not None:
+        # objects held at a wall leave along their own wall, never off it: sideways past
+        # the square's end when they stand on the door's wall, out through its far side
+        # when their wall runs across it (a bed at the wall beside a door in the corner)
+        along_door = np.abs(state.right @ dr.T) >= np.abs(state.right @ df.T)
+        sideways = np.where(slide[:, None], along_door, sideways)
     fa = np.where(sideways, np.where(along >= 0, depth, -depth), 0.0)
     fb = np.where(sideways, 0.0, depth)
     return fa @ dr + fb @ df, np.zeros(n)

@@ -4,9 +4,11 @@ import numpy as np
 import pytest
 
 import forcelayout as fl
-from forcelayout.forces import ForceModel, PhysicalTerm
+from forcelayout.access import AccessTerm
+from forcelayout.forces import ForceModel, PassageTerm, PhysicalTerm
 from forcelayout.geometry import RoomGeometry
 from forcelayout.rules.physical import (
+    SWING_MARGIN,
     PhysicalWeights,
     alignment,
     boundary,
@@ -199,3 +201,20 @@ def test_door_clearance_moves_a_wall_object_along_its_own_wall():
     f, _ = door_clearance(st, PhysicalWeights(), term.slide)
     assert term.slide is not None and term.slide[0]
     assert f[0, 0] < 0 and f[0, 1] == 0.0
+
+
+def test_settling_keeps_only_the_swing_squares_clear():
+    plan, pos, yaw = bed_by_the_corner_door(2.5)  # in the entry zone, clear of the swing
+    m = ForceModel(plan)
+    quiet = m.settling()
+    assert not any(isinstance(t, (PassageTerm, AccessTerm)) for t in quiet.terms)
+    full = next(t for t in m.terms if isinstance(t, PhysicalTerm))
+    calm = next(t for t in quiet.terms if isinstance(t, PhysicalTerm))
+    st = m.state(pos, yaw)
+    w = PhysicalWeights()
+    assert door_clearance(st, w, full.slide, full.entry)[0][0, 0] < 0
+    np.testing.assert_array_equal(door_clearance(st, w, calm.slide, calm.entry)[0], 0.0)
+    # within SWING_MARGIN of the swing square it is pushed away all the same
+    plan, pos, yaw = bed_by_the_corner_door(3.2 - 0.45 - SWING_MARGIN + 0.01)
+    st = ForceModel(plan).state(pos, yaw)
+    assert door_clearance(st, w, calm.slide, calm.entry)[0][0, 0] < 0

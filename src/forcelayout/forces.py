@@ -33,7 +33,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from forcelayout.access import access_term
+from forcelayout.access import AccessTerm, access_term
 from forcelayout.bindings import Binding, CompiledPlan, RuleGroup, compile_plan, group_bindings
 from forcelayout.clearance import WindowTerm
 from forcelayout.geometry import RoomGeometry
@@ -170,21 +170,31 @@ class PhysicalTerm:
     annealed = False
 
     def __init__(self, pi: np.ndarray, pj: np.ndarray, weights: PhysicalWeights,
-                 solid: np.ndarray | None = None, slide: np.ndarray | None = None):
+                 solid: np.ndarray | None = None, slide: np.ndarray | None = None,
+                 entry: bool = True):
         self.pi, self.pj, self.weights = pi, pj, weights
         self.solid = None if solid is None or solid.all() else solid.astype(float)
         self.slide = None if slide is None or not slide.any() else slide
+        self.entry = entry
 
     def stack(self, samples: int, rows: int) -> PhysicalTerm:
         """The same terms in each of ``samples`` stacked samples of ``rows`` rows."""
         out = PhysicalTerm(stacked_rows(self.pi, samples, rows),
-                           stacked_rows(self.pj, samples, rows), self.weights)
+                           stacked_rows(self.pj, samples, rows), self.weights,
+                           entry=self.entry)
         out.solid = None if self.solid is None else np.tile(self.solid, samples)
         out.slide = None if self.slide is None else np.tile(self.slide, samples)
         return out
 
+    def swing_squares_only(self) -> PhysicalTerm:
+        """The same terms with doors keeping only their swing squares clear."""
+        out = copy.copy(self)
+        out.entry = False
+        return out
+
     def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
-        return physical(state, self.pi, self.pj, self.weights, self.solid, self.slide)
+        return physical(state, self.pi, self.pj, self.weights, self.solid, self.slide,
+                        self.entry)
 
 
 class _PerSample:
@@ -350,6 +360,21 @@ class ForceModel:
         out = copy.copy(self)
         out.terms = [t for t in self.terms if not isinstance(t, kinds)]
         out._stacks = {}
+        return out
+
+    def settling(self) -> ForceModel:
+        """The model a start that already passes is settled by (squared up, pressed to its
+        walls), without rearranging it.
+
+        A copy without the walking-room and access terms, whose doors keep
+        only their swing squares clear (what the checks ask), not the deeper
+        entry zone: those terms make room where the start may already have
+        enough, and pushing a bed that stands clear of a door's swing out of
+        the zone beyond it slides it along its wall into its neighbours.
+        """
+        out = self.leaving_out(PassageTerm, AccessTerm)
+        out.terms = [t.swing_squares_only() if isinstance(t, PhysicalTerm) else t
+                     for t in out.terms]
         return out
 
     def stacked(self, samples: int) -> ForceModel | StackedForces:

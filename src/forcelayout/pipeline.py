@@ -16,9 +16,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from forcelayout.access import AccessTerm
 from forcelayout.batching import SampleTask, SimRequest, drive
-from forcelayout.forces import ForceModel, PassageTerm
+from forcelayout.forces import ForceModel
 from forcelayout.hierarchy import sample_floor, scene_graph
 from forcelayout.initial import Starts
 from forcelayout.layout import Pose
@@ -96,8 +95,9 @@ def _settle(model: ForceModel, quiet: ForceModel, pos: np.ndarray, yaw: np.ndarr
             opts: Options, misses: int) -> SampleTask[tuple[SimulationResult, bool]]:
     """Settle a start that passes by the rules and the physical terms alone.
 
-    At most ``SolverConfig.settle_steps`` steps of ``quiet`` (the model
-    without its walking-room and access terms): they square the objects up
+    At most ``SolverConfig.settle_steps`` steps of ``quiet``
+    (:meth:`ForceModel.settling`: without the walking-room and access terms,
+    doors keeping only their swing squares clear): they square the objects up
     and press them to their walls, where the walking-room and access terms of
     the full simulation would rearrange an arrangement that needs no
     rearranging. A start that is already at rest stops after
@@ -125,14 +125,14 @@ class _Models:
     """The floor's force models, shared by the samples of a batch (so they batch)."""
 
     full: ForceModel
-    quiet: ForceModel  # without the walking-room and access terms: for settling
+    quiet: ForceModel  # for settling a start that passes (ForceModel.settling)
     placer: object  # the start poses' candidate drawer (initial.Starts.placer_of)
 
     @classmethod
     def of(cls, plan: Plan, opts: Options) -> _Models:
         full = ForceModel(plan, relations=opts.relations)
         placer = Starts.placer_of(full) if full.n else None
-        return cls(full, full.leaving_out(PassageTerm, AccessTerm), placer)
+        return cls(full, full.settling(), placer)
 
 
 def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Models

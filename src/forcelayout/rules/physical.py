@@ -14,9 +14,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from forcelayout import geometry as geo
 from forcelayout.rules.base import State
 
-__all__ = ["PhysicalWeights", "repulsion", "boundary", "alignment", "door_clearance", "physical"]
+__all__ = ["PhysicalWeights", "repulsion", "boundary", "alignment", "door_clearance", "physical",
+           "SWING_MARGIN"]
 
 _EPS = 1e-3
 
@@ -163,9 +165,17 @@ def alignment(state: State, w: PhysicalWeights) -> tuple[np.ndarray, np.ndarray]
     return np.zeros((state.n, 2)), -w.alignment * np.sin(4.0 * state.yaw)
 
 
-def door_clearance(state: State, w: PhysicalWeights, slide: np.ndarray | None = None
-                   ) -> tuple[np.ndarray, np.ndarray]:
-    """Push footprints out of each door's swing square (door width deep into the room).
+#: Clearance from a door's swing square below which ``door_clearance(entry=False)`` pushes,
+#: metres: what start poses keep (an object settling from a start that passes is stopped
+#: before it reaches the square, not pushed only once inside it).
+SWING_MARGIN = 0.05
+
+
+def door_clearance(state: State, w: PhysicalWeights, slide: np.ndarray | None = None,
+                   entry: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Push footprints out of each door's entry zone (:attr:`Room.door_zones`: the swing
+    square and an agent's width deeper) or, with ``entry=False``, out of the swing square
+    alone (:attr:`Room.door_squares`, what the checks ask).
 
     The push runs along the square's axis of least penetration: sideways
     along the wall for an object beside the door, straight into the room for
@@ -177,12 +187,19 @@ def door_clearance(state: State, w: PhysicalWeights, slide: np.ndarray | None = 
     n = state.n
     if len(room.doors) == 0 or n == 0:
         return np.zeros((n, 2)), np.zeros(n)
-    margin = 0.02
-    depth = margin - state.door_separations  # (N, D)
+    margin = 0.02 if entry else SWING_MARGIN
+    if entry:
+        centre, dr, df, dh = room.door_zones
+        sep = state.door_separations  # (N, D)
+    else:
+        centre, dr, df, dh = room.door_squares
+        sep = geo.obb_separation(centre[None] - state.pos[:, None], state.right[:, None],
+                                 state.front[:, None], state.half[:, None], dr[None], df[None],
+                                 dh[None])
+    depth = margin - sep
     if not (depth > 0).any():
         return np.zeros((n, 2)), np.zeros(n)
     depth = np.clip(depth, 0.0, 1.0) * (w.door * 10.0)
-    centre, dr, df, dh = room.door_zones
     along = state.pos @ dr.T - (centre * dr).sum(1)  # (N, D) offset along the door's wall
     ahead = state.pos @ df.T - (centre * df).sum(1)  # (N, D) offset into the room
     # an object's half extent along each axis of the square
@@ -206,17 +223,19 @@ def door_clearance(state: State, w: PhysicalWeights, slide: np.ndarray | None = 
 
 def physical(
     state: State, pi: np.ndarray, pj: np.ndarray, w: PhysicalWeights,
-    solid: np.ndarray | None = None, slide: np.ndarray | None = None,
+    solid: np.ndarray | None = None, slide: np.ndarray | None = None, entry: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Sum of all always-on terms: repulsion, boundary, alignment, door clearance.
 
     ``solid`` (N,) marks the rows the door clearance pushes (all by default);
     walkable floor covers may lie in a door's swing. ``slide`` (N,) marks rows
-    pushed out of door squares along the wall only (see :func:`door_clearance`).
+    pushed out of door squares along their wall only, and ``entry`` says whether
+    doors keep their entry zones or only their swing squares clear (see
+    :func:`door_clearance`).
     """
     f = np.zeros((state.n, 2))
     tau = np.zeros(state.n)
-    fd, td = door_clearance(state, w, slide)
+    fd, td = door_clearance(state, w, slide, entry)
     if solid is not None:
         fd = fd * solid[:, None]
     for fk, tk in (repulsion(state, pi, pj, w), boundary(state, w), alignment(state, w),

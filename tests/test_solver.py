@@ -218,3 +218,18 @@ def test_settling_keeps_only_the_swing_squares_clear():
     plan, pos, yaw = bed_by_the_corner_door(3.2 - 0.45 - SWING_MARGIN + 0.01)
     st = ForceModel(plan).state(pos, yaw)
     assert door_clearance(st, w, calm.slide, calm.entry)[0][0, 0] < 0
+
+
+def test_a_muted_binding_pulls_with_no_weight_and_the_others_as_before():
+    plan = two_boxes([{"rule": "near", "object": "a", "target": "b"},
+                      {"rule": "at_wall", "object": "b"}])
+    m = ForceModel(plan)
+    pos, yaw = np.array([[1.0, 1.0], [3.0, 2.5]]), np.zeros(2)
+    near = next(g.position for g in m.groups if g.rule.name == "near")
+    f_all, _ = m.net(m.state(pos, yaw), annealed=True)
+    f_muted, _ = m.muting(near.tolist()).net(m.state(pos, yaw), annealed=True)
+    np.testing.assert_array_equal(m.muting([]).net(m.state(pos, yaw), annealed=True)[0], f_all)
+    assert np.abs(f_all[0]).max() > 0 and np.abs(f_muted[0]).max() == 0.0  # a: only near
+    wall = ForceModel(two_boxes([{"rule": "at_wall", "object": "b"}]))
+    f_wall, _ = wall.net(wall.state(pos, yaw), annealed=True)
+    np.testing.assert_array_equal(f_muted[1], f_wall[1])  # b: at_wall alone

@@ -27,6 +27,7 @@ the bodies.
 from __future__ import annotations
 
 import copy
+import dataclasses
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from typing import Protocol, runtime_checkable
@@ -38,7 +39,7 @@ from forcelayout.bindings import Binding, CompiledPlan, RuleGroup, compile_plan,
 from forcelayout.clearance import WindowTerm
 from forcelayout.geometry import RoomGeometry
 from forcelayout.plan import Plan
-from forcelayout.rules.base import State, stacked_rows
+from forcelayout.rules.base import ParamArrays, State, stacked_rows
 from forcelayout.rules.physical import PhysicalWeights, physical, repulsion
 from forcelayout.validate.checks import window_zones
 
@@ -375,6 +376,31 @@ class ForceModel:
         out = self.leaving_out(PassageTerm, AccessTerm)
         out.terms = [t.swing_squares_only() if isinstance(t, PhysicalTerm) else t
                      for t in out.terms]
+        return out
+
+    def muting(self, positions: Iterable[int]) -> ForceModel:
+        """A copy whose bindings at ``positions`` (in :attr:`bindings`) pull with no weight.
+
+        Settling a start that passes with a binding unmet (within the
+        sample's tolerance) mutes that binding: its force would drag its
+        object across the room, breaking the bindings the start meets.
+        """
+        mute = set(int(k) for k in positions)
+        out = copy.copy(self)
+        terms = []
+        for t in self.terms:
+            if isinstance(t, RuleTerm):
+                groups = []
+                for g in t.groups:
+                    off = np.isin(g.position, list(mute))
+                    if off.any():
+                        g = dataclasses.replace(g, params=ParamArrays(
+                            g.params._fields, np.where(off, 0.0, g.params.weight)))
+                    groups.append(g)
+                t = RuleTerm(groups, self.n)
+            terms.append(t)
+        out.terms = terms
+        out._stacks = {}
         return out
 
     def stacked(self, samples: int) -> ForceModel | StackedForces:

@@ -51,8 +51,11 @@ class SolverConfig:
         A start that already passes every check and meets every rule is
         first settled for at most this many steps by the rules and the
         physical terms alone (squared up, pressed to its walls), without the
-        walking-room and access terms that would rearrange it, and with doors
-        keeping only their swing squares clear (:meth:`ForceModel.settling`); the full
+        walking-room and access terms that would rearrange it, with doors
+        keeping only their swing squares clear (:meth:`ForceModel.settling`),
+        and with the bindings the start leaves unmet (within the sample's
+        tolerance) muted (:meth:`ForceModel.muting`: their pull would drag an
+        object across the room and break the bindings it meets); the full
         simulation runs only if that leaves a check failed or a rule unmet.
         0 always runs the full simulation. A floor still moving that does
         not pass after these steps settles as many again. Squaring up and

@@ -97,7 +97,8 @@ def _settle(model: ForceModel, quiet: ForceModel, pos: np.ndarray, yaw: np.ndarr
 
     At most ``SolverConfig.settle_steps`` steps of ``quiet``
     (:meth:`ForceModel.settling`: without the walking-room and access terms,
-    doors keeping only their swing squares clear): they square the objects up
+    doors keeping only their swing squares clear; the bindings the start
+    leaves unmet muted, :meth:`ForceModel.muting`): they square the objects up
     and press them to their walls, where the walking-room and access terms of
     the full simulation would rearrange an arrangement that needs no
     rearranging. A start that is already at rest stops after
@@ -127,6 +128,19 @@ class _Models:
     full: ForceModel
     quiet: ForceModel  # for settling a start that passes (ForceModel.settling)
     placer: object  # the start poses' candidate drawer (initial.Starts.placer_of)
+    muted: dict[frozenset[int], ForceModel] = field(default_factory=dict)
+
+    def settling(self, model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> ForceModel:
+        """The settling model for a start that passes: the bindings it leaves unmet muted
+        (shared by the samples that leave the same ones unmet, so they batch)."""
+        met = model.satisfied(model.state(pos, yaw))
+        off = frozenset(k for k, ok in met.items() if not ok)
+        if not off:
+            return self.quiet
+        out = self.muted.get(off)
+        if out is None:
+            out = self.muted[off] = self.quiet.muting(off)
+        return out
 
     @classmethod
     def of(cls, plan: Plan, opts: Options) -> _Models:
@@ -157,7 +171,8 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Mo
             continue
         if not settle:
             break
-        res, ok = yield from _settle(model, models.quiet, pos0, yaw0, opts, misses)
+        quiet = models.settling(model, pos0, yaw0) if verdict.unmet else models.quiet
+        res, ok = yield from _settle(model, quiet, pos0, yaw0, opts, misses)
         steps += res.steps
         if ok:
             settled = res

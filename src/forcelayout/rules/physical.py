@@ -173,9 +173,9 @@ SWING_MARGIN = 0.05
 
 def door_clearance(state: State, w: PhysicalWeights, slide: np.ndarray | None = None,
                    entry: bool = True) -> tuple[np.ndarray, np.ndarray]:
-    """Push footprints out of each door's entry zone (:attr:`Room.door_zones`: the swing
+    """Push footprints out of each door's entry zone (:attr:`RoomGeometry.door_zones`: the swing
     square and an agent's width deeper) or, with ``entry=False``, out of the swing square
-    alone (:attr:`Room.door_squares`, what the checks ask).
+    alone (:attr:`RoomGeometry.door_squares`, what the checks ask).
 
     The push runs along the square's axis of least penetration: sideways
     along the wall for an object beside the door, straight into the room for

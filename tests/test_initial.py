@@ -118,7 +118,7 @@ def test_a_start_within_the_rule_share_is_not_searched_further():
     assert not FloorVerdict(["collision: 'a' overlaps 'b'"], {0, 1}).passes(5)
     model = ForceModel(fl.load_plan("living_room"))
     kept = 0
-    for seed in range(8):
+    for seed in range(24):
         fresh = propose_poses(model, np.random.default_rng(seed))
         first = judge_floor(model, *fresh)
         loose = next(start_poses(model, np.random.default_rng(seed), misses=first.unmet))
@@ -303,3 +303,28 @@ def test_an_object_draws_again_where_no_candidate_meets_its_rules():
                                                          tries=2)))[far]
               for s in range(100))
     assert met >= 18  # one draw of 3 candidates: 11 of these 100
+
+
+def test_chairs_around_a_table_start_at_its_sides_square_to_it():
+    plan = fl.Plan.model_validate({
+        "room": {"polygon": [[0, 0], [5.0, 0], [5.0, 4.0], [0, 4.0]],
+                 "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}]},
+        "objects": [{"id": "table", "category": "table", "size": [1.6, 0.9, 0.75]}]
+        + [{"id": f"chair_{k}", "category": "chair", "size": [0.45, 0.45, 0.9]}
+           for k in range(4)],
+        "rules": [{"rule": "in_middle", "object": "table"}]
+        + [{"rule": "around", "object": f"chair_{k}", "target": "table"} for k in range(4)]})
+    model = ForceModel(plan)
+    for seed in range(6):
+        pos, yaw = propose_poses(model, np.random.default_rng(seed))
+        t = model.ids.index("table")
+        c, s = np.cos(yaw[t]), np.sin(yaw[t])
+        for k in range(4):
+            r = model.ids.index(f"chair_{k}")
+            d = pos[r] - pos[t]
+            lx, ly = d @ [c, s], d @ [-s, c]
+            long_side = abs(lx) <= 0.8 + 1e-9 and abs(ly) >= 0.45  # table 1.6 x 0.9 m
+            short_side = abs(ly) <= 0.45 + 1e-9 and abs(lx) >= 0.8
+            assert long_side or short_side  # beside a side, not off a corner
+            turn = (yaw[r] - yaw[t]) % (np.pi / 2)
+            assert min(turn, np.pi / 2 - turn) < 1e-9  # square to the table

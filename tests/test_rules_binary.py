@@ -151,6 +151,21 @@ def test_around_pulls_in_and_turns_to_the_table():
     assert ok and small(f, w)
 
 
+def test_around_asks_for_a_side_of_the_table_square_to_it():
+    table = [1.2, 0.8]  # centre (2, 1.75): sides at x 1.4 / 2.6, y 1.35 / 2.15
+    # at the long side, anywhere along it, square to it: met
+    _, _, ok, _ = run("around", [2.5, 2.42], [2.0, 1.75], target_size=table, yaw=np.pi)
+    assert ok
+    # off a corner, turned towards the centre: not met; pulled back along the side
+    yaw = np.arctan2(-(2.0 - 2.85), 1.75 - 2.55)  # front towards the centre
+    f, _, ok, w = run("around", [2.85, 2.55], [2.0, 1.75], target_size=table, yaw=yaw)
+    assert not ok and f[0] < 0
+    # at the side but turned 40 degrees off square: not met, and turned back
+    f, tau, ok, _ = run("around", [2.5, 2.42], [2.0, 1.75], target_size=table,
+                        yaw=np.pi - np.radians(40))
+    assert not ok and tau > 0
+
+
 def around_table(x0: float, x1: float) -> np.ndarray:
     """The forces on two chairs at the long side of a 1.2 x 0.8 m table, at x0 and x1."""
     st = make_state([[x0, 2.42], [x1, 2.42], [2.0, 1.75]], [np.pi] * 3,

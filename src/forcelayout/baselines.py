@@ -202,7 +202,7 @@ class _Hint:
 
     places: frozenset[str] = frozenset()  # room places: wall, corner, middle, window, door
     parent: str | None = None  # the target it starts near
-    near: str | None = None  # which side of the parent: beside, left, ..., None = all around
+    near: str | None = None  # which side of the parent: beside, left, ..., all_round, None
     turns: tuple[tuple[str, str], ...] = ()  # (turn, target id)
 
 
@@ -252,7 +252,7 @@ def _compile(plan: Plan) -> _Compiled:
             if not _reaches(parent, t, oid):
                 parent[oid] = t
                 place = cls.start.place if cls.start is not None else None
-                near[oid] = place if place in _TARGET_PLACES else None
+                near[oid] = place if place in _TARGET_PLACES or place == "all_round" else None
                 break
     hints = {}
     for oid in floor:
@@ -354,6 +354,24 @@ def _random_corner(c: _Compiled, rng: np.random.Generator, k: int, half: np.ndar
     return pos, _yaw_facing(room.normal[wb])
 
 
+def _around_target(rng: np.random.Generator, k: int, tp: Pose, thalf: np.ndarray,
+                   half: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``k`` poses at random sides of a placed target (chosen by their length), anywhere
+    along them, a few centimetres out, square to the side (as ``around`` asks)."""
+    fq = np.array([-math.sin(tp.yaw), math.cos(tp.yaw)])
+    rq = np.array([math.cos(tp.yaw), math.sin(tp.yaw)])
+    normals = np.stack([fq, rq, -fq, -rq])
+    axes = np.stack([rq, fq, rq, fq])
+    lengths = np.array([thalf[0], thalf[1], thalf[0], thalf[1]])
+    depths = np.array([thalf[1], thalf[0], thalf[1], thalf[0]])
+    s = rng.choice(4, size=k, p=lengths / lengths.sum())
+    gap = rng.uniform(0.02, 0.25, k)
+    along = rng.uniform(-1.0, 1.0, k) * np.maximum(lengths[s] - half[0], 0.0)
+    pos = (np.array([tp.x, tp.y]) + normals[s] * (depths[s] + half[1] + gap)[:, None]
+           + axes[s] * along[:, None])
+    return pos, _yaw_facing(-normals[s])
+
+
 def _near_target(rng: np.random.Generator, k: int, where: str | None, tp: Pose,
                  thalf: np.ndarray, half: np.ndarray, yaw: np.ndarray) -> np.ndarray:
     """``k`` centres near a placed target: on the side ``where`` asks, centred on it for a
@@ -391,11 +409,14 @@ def _propose(c: _Compiled, oid: str, rng: np.random.Generator, k: int,
     yaw = _cardinal(rng, k)
     parent = hint.parent if hint.parent in poses else None
     out: tuple[np.ndarray, np.ndarray] | None = None
-    if parent is not None and (hint.near is not None or not snapped):
+    if parent is not None and hint.near == "all_round" and not snapped:  # square to a side
+        out = _around_target(rng, k, poses[parent], c.half[parent], half)
+    elif parent is not None and (hint.near is not None or not snapped):
         tp = poses[parent]
-        if hint.near is not None and hint.near != "front":
+        where = None if hint.near == "all_round" else hint.near  # (at a wall: all round)
+        if where is not None and where != "front":
             yaw = np.full(k, tp.yaw)  # side by side (or under it), facing the same way
-        pos = _near_target(rng, k, hint.near, tp, c.half[parent], half, yaw)
+        pos = _near_target(rng, k, where, tp, c.half[parent], half, yaw)
         out = _snap_nearest_wall(room, pos, half) if snapped else (pos, yaw)
     elif "corner" in places:
         out = _random_corner(c, rng, k, half)
@@ -417,7 +438,8 @@ def _propose(c: _Compiled, oid: str, rng: np.random.Generator, k: int,
             pos = rng.random((k, 2)) * ext + [xmin, ymin]
         out = (pos, yaw)
     pos, yaw = out
-    if not snapped:  # turn as the rules ask (face a target, share its heading)
+    if not snapped and not (parent is not None and hint.near == "all_round"):  # (squared)
+        # turn as the rules ask (face a target, share its heading)
         for turn, target in hint.turns:
             if target in poses:
                 tp = poses[target]

@@ -344,6 +344,18 @@ def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius,
         # child at its parent's side is the usual arrangement (two beds share a nightstand)
         return (np.concatenate([near_side[0][~use], on_wall[0], round_corner[0][use]]),
                 np.concatenate([near_side[1][~use], on_wall[1], round_corner[1][use]]))
+    if "all_round" in places:  # at a side of the parent (by its length), square to it
+        hw, hd = half[q]
+        normals = np.stack([fq, rq, -fq, -rq])
+        axes = np.stack([rq, fq, rq, fq])
+        lengths = np.array([hw, hd, hw, hd])
+        depths = np.array([hd, hw, hd, hw])
+        cdf = np.cumsum(lengths / lengths.sum())
+        s = np.minimum(cdf.searchsorted(rng.random(k), side="right"), 3)
+        reach = np.maximum(lengths[s] - half[r, 0], 0.0)
+        cand = (pos[q] + normals[s] * (depths[s] + half[r, 1] + gap[:, 0])[:, None]
+                + axes[s] * (rng.uniform(-1.0, 1.0, k) * reach)[:, None])
+        return cand, _yaw_facing(-normals[s])
     if "wall" in places and "face_target" in turns:  # across the room, on the wall it faces
         span = float(np.hypot(*(room.bounds[2:] - room.bounds[:2])))
         cand = pos[q] + fq * rng.uniform(1.0, span, (k, 1)) + rq * rng.normal(0.0, 0.3, (k, 1))
@@ -819,7 +831,7 @@ class _Placer:
         places = w.places
         q = int(self.parent[r])
         sides = self.sides[r]  # wall to keep free on the left and the right, metres
-        cyaw = rng.uniform(-np.pi, np.pi, tries)
+        cyaw = rng.integers(0, 4, tries) * (0.5 * np.pi)  # square with the room, as settled
         corner = _corner_candidates(room, rng, tries, half[r]) if "corner" in places else None
         loose = 0  # the first candidates, drawn with no wall kept free beside them
         opening = (room.windows if "window" in places and len(room.windows) else

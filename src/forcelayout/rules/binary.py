@@ -49,6 +49,23 @@ def _facing_error(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
     return signed_angle(state.front[i], state.pos[j] - state.pos[i])  # needs no unit vector
 
 
+def _side(state: State, i: np.ndarray, j: np.ndarray
+          ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The side of target ``j`` that each object ``i`` stands at: its outward normal and
+    the unit axis along it (both (B, 2)), the object's offset along that axis and the
+    side's half length (both (B,))."""
+    d = state.pos[i] - state.pos[j]
+    r, f = state.right[j], state.front[j]
+    lx, ly = (d * r).sum(1), (d * f).sum(1)
+    hw, hd = state.half[j, 0], state.half[j, 1]
+    at_end = np.abs(lx) * hd >= np.abs(ly) * hw  # beyond the left or right end
+    sx = np.where(lx >= 0, 1.0, -1.0)[:, None]
+    sy = np.where(ly >= 0, 1.0, -1.0)[:, None]
+    normal = np.where(at_end[:, None], r * sx, f * sy)
+    axis = np.where(at_end[:, None], f, r)
+    return normal, axis, np.where(at_end, ly, lx), np.where(at_end, hd, hw)
+
+
 def _gap_estimate(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
     """Fast lower bound of the footprint gap between `i` and `j`, metres.
 
@@ -437,15 +454,16 @@ def _same_target(j: np.ndarray) -> np.ndarray:
 
 
 class Around(Rule):
-    """Around the target (chairs around a table): close to it, facing its centre.
+    """Around the target (chairs around a table): close to one of its sides, facing it.
 
     Satisfied when the footprint gap to the target is at most ``distance``
-    metres and the target's centre lies within ``max_angle`` degrees of the
-    object's front. Besides pulling each object in and turning it, the force
-    pushes the objects bound around the same target apart round it until
-    each has room beside the next (their widths and 10 cm between them, at
-    most an even share of the way round): six chairs spread all round a
-    table, two may stay side by side along one of its sides.
+    metres, the object's centre lies beside one of the target's sides (not
+    off a corner) and its front is within ``max_angle`` degrees of square to
+    that side. Besides pulling each object in, back along its side when it
+    is off a corner, and turning it square to that side, the force pushes
+    the objects bound around the same target at the same side apart along
+    it until each has room beside the next (their widths and 10 cm between
+    them). Objects start at a side chosen by its length, square to it.
     """
 
     closeness = "close"
@@ -469,31 +487,28 @@ class Around(Rule):
         u, _ = unit(state.pos[j] - state.pos[i])  # towards the target
         gap = _gap_estimate(state, i, j)
         f = u * (w * ramp(gap - p.distance + np.minimum(0.1, 0.5 * p.distance)))[:, None]
+        normal, axis, along, half = _side(state, i, j)
         mates = _same_target(j)  # (B, K): the other bindings around the same target
-        if mates.shape[1]:  # spread: push apart the angular positions around a shared target
-            theta = np.arctan2(-u[:, 1], -u[:, 0])
-            same = mates >= 0
-            k = same.sum(1) + 1
+        if mates.shape[1]:  # spread: apart along a shared side until each has room
             m = np.maximum(mates, 0)
-            other = theta[m]
-            dth = np.arctan2(np.sin(theta[:, None] - other), np.cos(theta[:, None] - other))
-            # apart by the angle their widths need side by side (10 cm between them) at
-            # their distance from the target's centre, at most evenly round it: two chairs
-            # along one side of a table stay there, six spread all round
-            r = np.hypot(*(state.pos[i] - state.pos[j]).T)
+            same = (mates >= 0) & ((normal[:, None, :] * normal[m]).sum(2) > 0.5)
             width = state.size[i, 0] * 0.5
-            chord = width[:, None] + width[m] + 0.1
-            need = 2.0 * np.arcsin(np.minimum(1.0, chord / np.maximum(r[:, None] + r[m], 1e-6)))
-            want = np.minimum((2.0 * np.pi / k)[:, None], need)
-            push = np.where(same, np.sign(dth) * np.maximum(want - np.abs(dth), 0.0), 0.0)
-            tang = np.stack([u[:, 1], -u[:, 0]], axis=1)  # CCW around the target
-            f += tang * (w * np.clip(push.sum(1), -CAP / GAIN, CAP / GAIN) * GAIN * 0.5)[:, None]
+            need = width[:, None] + width[m] + 0.1  # their widths and 10 cm between them
+            d = along[:, None] - along[m]
+            away = np.where(d > 0, 1.0, np.where(d < 0, -1.0, np.where(mates > np.arange(
+                len(i))[:, None], -1.0, 1.0)))  # two at one spot: the later binding goes +
+            push = np.where(same, away * np.maximum(need - np.abs(d), 0.0), 0.0)
+            f += axis * (w * np.clip(push.sum(1), -CAP / GAIN, CAP / GAIN) * GAIN * 0.5)[:, None]
+        # its centre past the end of its side (off a corner): back along the side
+        f -= axis * (w * np.sign(along) * ramp(np.abs(along) - half))[:, None]
         dead = 0.25 * np.radians(p.max_angle)
-        return f, turn(_facing_error(state, i, j), dead, w)
+        return f, turn(signed_angle(state.front[i], -normal), dead, w)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         close = state.gap(i, j) <= p.distance
-        return close & (np.abs(_facing_error(state, i, j)) <= np.radians(p.max_angle))
+        normal, _, along, half = _side(state, i, j)
+        square = np.abs(signed_angle(state.front[i], -normal)) <= np.radians(p.max_angle)
+        return close & square & (np.abs(along) <= half)
 
 
 class Under(Rule):

@@ -12,6 +12,7 @@ from forcelayout.geometry import (
     box_corners,
     box_gap,
     box_separation,
+    box_sides,
     front_vectors,
     obb_gap,
     right_vectors,
@@ -119,3 +120,18 @@ def test_the_compiled_kernels_switch_off_and_layouts_do_not_change():
         out[flag] = json.loads(run.stdout)
     assert out["1"][0] is True and out["0"][0] is False
     assert out["1"][1] == out["0"][1]
+
+
+@given(angle, extent, extent)
+def test_box_sides_run_from_corner_to_corner_front_right_back_left(yaw, w, d):
+    half = np.array([w, d])
+    right, front = right_vectors(np.array([yaw]))[0], front_vectors(np.array([yaw]))[0]
+    normals, axes, lengths, depths = box_sides(right, front, half)
+    corners = box_corners(np.zeros((1, 2)), np.array([yaw]), half[None])[0]
+    for k in range(4):
+        for sign in (-1.0, 1.0):  # each side's two ends are two corners of the box
+            end = normals[k] * depths[k] + sign * axes[k] * lengths[k]
+            assert np.min(np.hypot(*(corners - end).T)) < 1e-9
+    # in order front, right, back, left (the side a child of this box starts at)
+    np.testing.assert_allclose(normals @ front, [1.0, 0.0, -1.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(normals @ right, [0.0, 1.0, 0.0, -1.0], atol=1e-12)

@@ -360,10 +360,7 @@ def _around_target(rng: np.random.Generator, k: int, tp: Pose, thalf: np.ndarray
     along them, a few centimetres out, square to the side (as ``around`` asks)."""
     fq = np.array([-math.sin(tp.yaw), math.cos(tp.yaw)])
     rq = np.array([math.cos(tp.yaw), math.sin(tp.yaw)])
-    normals = np.stack([fq, rq, -fq, -rq])
-    axes = np.stack([rq, fq, rq, fq])
-    lengths = np.array([thalf[0], thalf[1], thalf[0], thalf[1]])
-    depths = np.array([thalf[1], thalf[0], thalf[1], thalf[0]])
+    normals, axes, lengths, depths = geo.box_sides(rq, fq, thalf)
     s = rng.choice(4, size=k, p=lengths / lengths.sum())
     gap = rng.uniform(0.02, 0.25, k)
     along = rng.uniform(-1.0, 1.0, k) * np.maximum(lengths[s] - half[0], 0.0)

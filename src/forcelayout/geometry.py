@@ -28,6 +28,7 @@ __all__ = [
     "front_vectors",
     "right_vectors",
     "box_corners",
+    "box_sides",
     "box_gap",
     "box_separation",
     "obb_separation",
@@ -62,6 +63,43 @@ def right_vectors(yaw: np.ndarray) -> np.ndarray:
     """Unit local +x directions ``(cos yaw, sin yaw)``, shape ``yaw.shape + (2,)``."""
     yaw = np.asarray(yaw, dtype=float)
     return np.stack([np.cos(yaw), np.sin(yaw)], axis=-1)
+
+
+def box_sides(right: np.ndarray, front: np.ndarray, half: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The four sides of one oriented rectangle: front, right, back, left.
+
+    Parameters
+    ----------
+    right, front : ndarray, shape (2,)
+        The rectangle's unit axes.
+    half : ndarray, shape (2,)
+        Half width (along ``right``) and half depth (along ``front``), metres.
+
+    Returns
+    -------
+    normals : ndarray, shape (4, 2)
+        Each side's outward unit normal.
+    axes : ndarray, shape (4, 2)
+        A unit axis along each side.
+    lengths : ndarray, shape (4,)
+        Each side's half length, metres.
+    depths : ndarray, shape (4,)
+        The distance from the centre to each side, metres.
+
+    Examples
+    --------
+    >>> n, a, length, depth = box_sides(np.array([1.0, 0.0]), np.array([0.0, 1.0]),
+    ...                                 np.array([0.8, 0.45]))
+    >>> n.tolist()
+    [[0.0, 1.0], [1.0, 0.0], [-0.0, -1.0], [-1.0, -0.0]]
+    >>> length.tolist(), depth.tolist()
+    ([0.8, 0.45, 0.8, 0.45], [0.45, 0.8, 0.45, 0.8])
+    """
+    hw, hd = half[0], half[1]
+    normals = np.stack([front, right, -front, -right])
+    axes = np.stack([right, front, right, front])
+    return normals, axes, np.array([hw, hd, hw, hd]), np.array([hd, hw, hd, hw])
 
 
 def box_corners(pos: np.ndarray, yaw: np.ndarray, half: np.ndarray) -> np.ndarray:

@@ -345,11 +345,7 @@ def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius,
         return (np.concatenate([near_side[0][~use], on_wall[0], round_corner[0][use]]),
                 np.concatenate([near_side[1][~use], on_wall[1], round_corner[1][use]]))
     if "all_round" in places:  # at a side of the parent (by its length), square to it
-        hw, hd = half[q]
-        normals = np.stack([fq, rq, -fq, -rq])
-        axes = np.stack([rq, fq, rq, fq])
-        lengths = np.array([hw, hd, hw, hd])
-        depths = np.array([hd, hw, hd, hw])
+        normals, axes, lengths, depths = geo.box_sides(rq, fq, half[q])
         cdf = np.cumsum(lengths / lengths.sum())
         s = np.minimum(cdf.searchsorted(rng.random(k), side="right"), 3)
         reach = np.maximum(lengths[s] - half[r, 0], 0.0)

@@ -406,7 +406,8 @@ def _propose(c: _Compiled, oid: str, rng: np.random.Generator, k: int,
     yaw = _cardinal(rng, k)
     parent = hint.parent if hint.parent in poses else None
     out: tuple[np.ndarray, np.ndarray] | None = None
-    if parent is not None and hint.near == "all_round" and not snapped:  # square to a side
+    square = parent is not None and hint.near == "all_round" and not snapped
+    if square:  # at a side of its target, square to it
         out = _around_target(rng, k, poses[parent], c.half[parent], half)
     elif parent is not None and (hint.near is not None or not snapped):
         tp = poses[parent]
@@ -435,8 +436,7 @@ def _propose(c: _Compiled, oid: str, rng: np.random.Generator, k: int,
             pos = rng.random((k, 2)) * ext + [xmin, ymin]
         out = (pos, yaw)
     pos, yaw = out
-    if not snapped and not (parent is not None and hint.near == "all_round"):  # (squared)
-        # turn as the rules ask (face a target, share its heading)
+    if not snapped and not square:  # turn as the rules ask (face a target, share its heading)
         for turn, target in hint.turns:
             if target in poses:
                 tp = poses[target]

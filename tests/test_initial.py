@@ -121,6 +121,9 @@ def test_a_start_within_the_rule_share_is_not_searched_further():
     for seed in range(24):
         fresh = propose_poses(model, np.random.default_rng(seed))
         first = judge_floor(model, *fresh)
+        met = model.satisfied(model.state(*fresh))  # the unmet bindings, named by position
+        assert first.missed == {k for k, ok in met.items() if not ok}
+        assert first.unmet == len(first.missed)
         loose = next(start_poses(model, np.random.default_rng(seed), misses=first.unmet))
         strict = next(start_poses(model, np.random.default_rng(seed), misses=0))
         if first.passes(first.unmet):  # accepted as drawn, unmet bindings and all

@@ -130,11 +130,11 @@ class _Models:
     placer: object  # the start poses' candidate drawer (initial.Starts.placer_of)
     muted: dict[frozenset[int], ForceModel] = field(default_factory=dict)
 
-    def settling(self, model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> ForceModel:
-        """The settling model for a start that passes: the bindings it leaves unmet muted
-        (shared by the samples that leave the same ones unmet, so they batch)."""
-        met = model.satisfied(model.state(pos, yaw))
-        off = frozenset(k for k, ok in met.items() if not ok)
+    def settling(self, missed: set[int]) -> ForceModel:
+        """The settling model for a start that passes with the bindings at ``missed``
+        (``FloorVerdict.missed``) unmet: those muted (shared by the samples that leave the
+        same ones unmet, so they batch)."""
+        off = frozenset(missed)
         if not off:
             return self.quiet
         out = self.muted.get(off)
@@ -171,7 +171,7 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Mo
             continue
         if not settle:
             break
-        quiet = models.settling(model, pos0, yaw0) if verdict.unmet else models.quiet
+        quiet = models.settling(verdict.missed)
         res, ok = yield from _settle(model, quiet, pos0, yaw0, opts, misses)
         steps += res.steps
         if ok:

@@ -34,11 +34,15 @@ class FloorVerdict:
         Rows of the objects to move.
     unmet : int
         How many of ``failures`` are unmet bindings (the rest are failed checks).
+    missed : set of int
+        Positions of the unmet bindings in the model's ``bindings`` (filled by
+        :func:`judge_floor`).
     """
 
     failures: list[str] = field(default_factory=list)
     at_fault: set[int] = field(default_factory=set)
     unmet: int = 0
+    missed: set[int] = field(default_factory=set)
 
     @property
     def ok(self) -> bool:
@@ -106,5 +110,6 @@ def judge_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
             b = model.bindings[k]
             out.failures.append(str(b))
             out.unmet += 1
+            out.missed.add(k)
             out.at_fault.add(row[b.object])
     return out

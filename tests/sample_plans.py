@@ -10,3 +10,13 @@ SHELVES = {
                 for k in range(8)],
     "rules": [{"rule": "at_wall", "object": f"shelf_{k}"} for k in range(8)],
 }
+
+#: A 1.6 x 0.9 m table in the middle of a 5 x 4 m room and four chairs around it.
+TABLE_FOR_FOUR = {
+    "name": "table", "room": {"polygon": [[0, 0], [5, 0], [5, 4], [0, 4]], "height": 2.7,
+                              "doors": [{"wall": 0, "offset": 0.8, "width": 0.9}]},
+    "objects": [{"id": "table", "category": "table", "size": [1.6, 0.9, 0.75]}]
+    + [{"id": f"chair_{k}", "category": "chair", "size": [0.45, 0.45, 0.9]} for k in range(4)],
+    "rules": [{"rule": "in_middle", "object": "table"}]
+    + [{"rule": "around", "object": f"chair_{k}", "target": "table"} for k in range(4)],
+}

@@ -23,6 +23,7 @@ from forcelayout.geometry import RoomGeometry, box_corners, box_separation
 from forcelayout.rules import StartHint
 from forcelayout.testing import plans
 from forcelayout.validate import check_layout
+from sample_plans import TABLE_FOR_FOUR
 
 ROOM = {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]], "height": 2.7,
         "doors": [{"wall": 0, "offset": 1.0, "width": 0.9}],
@@ -241,13 +242,6 @@ def test_random_plans_never_crash(plan: Plan, seed: int) -> None:
 
 def test_chairs_around_a_table_start_all_round_it() -> None:
     """`around` names no side: its objects are drawn all round the target, not on it."""
-    plan = Plan.from_dict({
-        "name": "table", "room": {"polygon": [[0, 0], [5, 0], [5, 4], [0, 4]], "height": 2.7,
-                                  "doors": [{"wall": 0, "offset": 0.8, "width": 0.9}]},
-        "objects": [{"id": "table", "category": "table", "size": [1.6, 0.9, 0.75]}]
-        + [{"id": f"chair_{k}", "category": "chair", "size": [0.45, 0.45, 0.9]}
-           for k in range(4)],
-        "rules": [{"rule": "in_middle", "object": "table"}]
-        + [{"rule": "around", "object": f"chair_{k}", "target": "table"} for k in range(4)]})
+    plan = Plan.from_dict(TABLE_FOR_FOUR)
     run = rejection_sample(plan, 3, seed=0, max_tries=300)
     assert len(run.layouts) == 3

@@ -9,6 +9,7 @@ from forcelayout import rules
 from forcelayout.forces import ForceModel, RuleTerm
 from forcelayout.initial import initial_poses, parents, propose_poses, start_poses
 from forcelayout.testing import plans
+from sample_plans import TABLE_FOR_FOUR
 
 
 @pytest.fixture(scope="module")
@@ -309,15 +310,7 @@ def test_an_object_draws_again_where_no_candidate_meets_its_rules():
 
 
 def test_chairs_around_a_table_start_at_its_sides_square_to_it():
-    plan = fl.Plan.model_validate({
-        "room": {"polygon": [[0, 0], [5.0, 0], [5.0, 4.0], [0, 4.0]],
-                 "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}]},
-        "objects": [{"id": "table", "category": "table", "size": [1.6, 0.9, 0.75]}]
-        + [{"id": f"chair_{k}", "category": "chair", "size": [0.45, 0.45, 0.9]}
-           for k in range(4)],
-        "rules": [{"rule": "in_middle", "object": "table"}]
-        + [{"rule": "around", "object": f"chair_{k}", "target": "table"} for k in range(4)]})
-    model = ForceModel(plan)
+    model = ForceModel(fl.Plan.from_dict(TABLE_FOR_FOUR))  # a 1.6 x 0.9 m table
     for seed in range(6):
         pos, yaw = propose_poses(model, np.random.default_rng(seed))
         t = model.ids.index("table")

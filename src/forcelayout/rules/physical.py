@@ -187,11 +187,12 @@ def door_clearance(state: State, w: PhysicalWeights, slide: np.ndarray | None = 
     n = state.n
     if len(room.doors) == 0 or n == 0:
         return np.zeros((n, 2)), np.zeros(n)
-    margin = 0.02 if entry else SWING_MARGIN
     if entry:
+        margin = 0.02
         centre, dr, df, dh = room.door_zones
         sep = state.door_separations  # (N, D)
     else:
+        margin = SWING_MARGIN
         centre, dr, df, dh = room.door_squares
         sep = geo.obb_separation(centre[None] - state.pos[:, None], state.right[:, None],
                                  state.front[:, None], state.half[:, None], dr[None], df[None],

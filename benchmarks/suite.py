@@ -22,6 +22,11 @@ good yield >= 90 % on every plan where the baseline finds a good layout
 baseline's, good layouts/s >= the baseline's on every plan of >= 10 objects
 and >= 3 x over the suite. A plan that fails to load or run is an error row.
 
+Diversity from 30 layouts is a rough figure, so each plan also gets a 90 %
+bootstrap interval of its two diversity ratios (forcelayout over baseline;
+both sets of layouts drawn again with replacement); a plan below the target
+is *clearly below* when a whole interval lies under 0.95.
+
 Usage::
 
     python benchmarks/suite.py [--plans bedroom living_room my_plans/ x.json]
@@ -61,6 +66,9 @@ GOOD_RULES = 0.95
 YIELD_EACH, YIELD_MEAN, DIVERSITY_RATIO, SPEED_SUITE, SPEED_MIN_OBJECTS = 0.90, 0.95, 0.95, 3.0, 10
 #: Baseline layouts below which the markdown flags a plan's baseline diversity as a rough figure.
 FEW_LAYOUTS = 10
+#: Bootstrap resamples and coverage of the interval of each plan's diversity ratio.
+RATIO_RESAMPLES, RATIO_LEVEL = 2000, 0.90
+METRICS = ("geometric", "topological")
 
 
 # -- one plan -----------------------------------------------------------------------------
@@ -78,16 +86,47 @@ def floor_fill(plan: fl.Plan) -> float:
     return area / plan.room.shape.area
 
 
-def diversity(layouts: list[fl.Layout], pairs_of: int) -> dict[str, float | None]:
-    """Geometric and topological intra-plan diversity of at most ``pairs_of`` layouts."""
+def dissimilarities(layouts: list[fl.Layout], pairs_of: int) -> dict[str, np.ndarray | None]:
+    """Geometric and topological dissimilarity matrices of at most ``pairs_of`` layouts
+    (None for fewer than two)."""
     keep = layouts[:pairs_of]
-    return {m: (metrics.intra_plan(keep, m) if len(keep) >= 2 else None)
-            for m in ("geometric", "topological")}
+    return {m: (metrics.pairwise(keep, m) if len(keep) >= 2 else None) for m in METRICS}
+
+
+def diversity(pairs: dict[str, np.ndarray | None]) -> dict[str, float | None]:
+    """Intra-plan diversity: the mean dissimilarity over all pairs of layouts."""
+    return {m: (float(d[np.triu_indices(len(d), 1)].mean()) if d is not None else None)
+            for m, d in pairs.items()}
+
+
+def ratio_interval(a: np.ndarray, b: np.ndarray, *, resamples: int = RATIO_RESAMPLES,
+                   level: float = RATIO_LEVEL, seed: int = 0) -> list[float]:
+    """Percentile bootstrap interval of diversity(a) / diversity(b), from the two sets'
+    dissimilarity matrices: each set's layouts are drawn again with replacement, and the
+    mean is over pairs of two different layouts (a layout drawn twice is no pair)."""
+    rng = np.random.default_rng(seed)
+
+    def means(d: np.ndarray) -> np.ndarray:
+        k = rng.integers(0, len(d), (resamples, len(d)))
+        pair = k[:, :, None] != k[:, None, :]
+        sub = d[k[:, :, None], k[:, None, :]]
+        count = pair.sum((1, 2))
+        with np.errstate(invalid="ignore", divide="ignore"):  # one layout drawn: no pair
+            return np.where(count > 0, (sub * pair).sum((1, 2)) / count, np.nan)
+
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = means(a) / means(b)
+    ratio = ratio[np.isfinite(ratio)]
+    if not len(ratio):
+        return [float("nan"), float("nan")]
+    tail = 50.0 * (1.0 - level)
+    return [float(np.percentile(ratio, tail)), float(np.percentile(ratio, 100.0 - tail))]
 
 
 def run_forcelayout(plan: fl.Plan, samples: int, seed: int, pairs_of: int, batch: int
                     ) -> dict[str, Any]:
-    """Raw samples of the method, judged as the baseline is judged."""
+    """Raw samples of the method, judged as the baseline is judged (``"pairs"``: the
+    dissimilarity matrices, not written out)."""
     fl.solve(plan, 2**62)  # warm imports and caches outside the measured samples
     good: list[fl.Layout] = []
     checks_ok = rules = repaired = 0
@@ -117,14 +156,15 @@ def run_forcelayout(plan: fl.Plan, samples: int, seed: int, pairs_of: int, batch
         "good_per_s": len(good) / cpu if cpu > 0 else None,
         "ms_per_sample": 1000.0 * cpu / samples,
         "repaired_pct": 100.0 * repaired / samples if repaired_known else None,
-        **diversity(good, pairs_of),
+        **diversity(pairs := dissimilarities(good, pairs_of)),
         "failures": dict(reasons.most_common()),
+        "pairs": pairs,
     }
 
 
 def run_baseline(plan: fl.Plan, samples: int, tries: int, seed: int, pairs_of: int
                  ) -> dict[str, Any]:
-    """The rule-aware rejection sampler with the same seed."""
+    """The rule-aware rejection sampler with the same seed (``"pairs"`` as above)."""
     rejection_sample(plan, 1, seed=2**62, max_tries=1)  # warm imports and caches
     t0 = time.process_time()
     res = rejection_sample(plan, samples, seed=seed, max_tries=tries)
@@ -135,8 +175,9 @@ def run_baseline(plan: fl.Plan, samples: int, tries: int, seed: int, pairs_of: i
         "yield_pct": 100.0 * res.yield_per_try if res.tries else None,
         "good_per_s": len(res) / cpu if cpu > 0 else None,
         "ms_per_try": 1000.0 * cpu / res.tries if res.tries else None,
-        **diversity(res.layouts, pairs_of),
+        **diversity(pairs := dissimilarities(res.layouts, pairs_of)),
         "failures": dict(sorted(res.failures.items(), key=lambda kv: -kv[1])),
+        "pairs": pairs,
     }
 
 
@@ -149,11 +190,15 @@ def plan_targets(row: dict[str, Any]) -> dict[str, bool | None]:
         "not_below_baseline": (f["yield_pct"] >= b["yield_pct"]
                                if b["yield_pct"] is not None else None),
     }
-    div = []
-    for m in ("geometric", "topological"):
+    div, clear = [], []
+    for m in METRICS:
         if b[m] is not None:
             div.append(f[m] is not None and f[m] >= DIVERSITY_RATIO * b[m])
+            ci = row["diversity_ratio"].get(m)
+            clear.append(ci is not None and bool(ci[1] < DIVERSITY_RATIO))
     out["diversity"] = all(div) if div else None
+    # below the target beyond doubt: the whole interval of a ratio under it
+    out["diversity_clearly_below"] = any(clear) if clear else None
     if row["objects"] >= SPEED_MIN_OBJECTS and solvable:
         out["speed"] = (f["good_per_s"] or 0.0) >= (b["good_per_s"] or 0.0)
     else:
@@ -174,6 +219,9 @@ def bench_plan(source: str, samples: int, tries: int, seed: int, pairs_of: int, 
             "forcelayout": run_forcelayout(plan, samples, seed, pairs_of, batch),
             "baseline": run_baseline(plan, samples, tries, seed, pairs_of),
         }
+        fp, bp = row["forcelayout"].pop("pairs"), row["baseline"].pop("pairs")
+        row["diversity_ratio"] = {m: ratio_interval(fp[m], bp[m]) for m in METRICS
+                                  if fp[m] is not None and bp[m] is not None}
         row["targets"] = plan_targets(row)
         return row
     except Exception as e:  # one bad plan must not stop the suite
@@ -293,8 +341,30 @@ def _diversity_count(rows: list[dict[str, Any]]) -> str:
     judged = [r for r in rows if "error" not in r and r["targets"]["diversity"] is not None]
     failed = [r for r in judged if not r["targets"]["diversity"]]
     thin = sum(r["baseline"]["accepted"] < FEW_LAYOUTS for r in failed)
+    clear = sum(bool(r["targets"].get("diversity_clearly_below")) for r in failed)
     return (f"{len(judged) - len(failed)} of {len(judged)} plans; of the {len(failed)} below, "
-            f"{thin} against fewer than {FEW_LAYOUTS} baseline layouts")
+            f"{thin} against fewer than {FEW_LAYOUTS} baseline layouts, {clear} clearly "
+            f"below (the {RATIO_LEVEL:.0%} bootstrap interval of a ratio wholly under "
+            f"{DIVERSITY_RATIO})")
+
+
+def _diversity_below(rows: list[dict[str, Any]]) -> str:
+    """The plans below the diversity target, each ratio under it with its interval."""
+    out = []
+    for r in rows:
+        if "error" in r or r["targets"]["diversity"] is not False:
+            continue
+        f, b = r["forcelayout"], r["baseline"]
+        parts = []
+        for m, short in zip(METRICS, ("geo", "topo"), strict=True):
+            if b[m] is None or (f[m] is not None and f[m] >= DIVERSITY_RATIO * b[m]):
+                continue
+            ratio = (f[m] or 0.0) / b[m]
+            ci = r["diversity_ratio"].get(m)
+            span = f" [{ci[0]:.2f}, {ci[1]:.2f}]" if ci and math.isfinite(ci[1]) else ""
+            parts.append(f"{short} {ratio:.2f}{span}")
+        out.append(f"\n  - {r['plan']}: " + ", ".join(parts))
+    return "".join(out)
 
 
 def _below(rows: list[dict[str, Any]], target: str, *, count: bool = True) -> str:
@@ -346,8 +416,8 @@ def markdown(result: dict[str, Any]) -> str:
         f"({_num(fo['yield_pct_solvable'])} %): {_mark(to['yield_mean'])}",
         f"- never below the baseline's yield: {_mark(to['not_below_baseline'])}",
         f"- diversity ≥ {DIVERSITY_RATIO} × the baseline's on every plan: "
-        f"{_mark(to['diversity'])} ({_diversity_count(result['plans'])}"
-        f"{_below(result['plans'], 'diversity', count=False)})",
+        f"{_mark(to['diversity'])} ({_diversity_count(result['plans'])})"
+        + _diversity_below(result["plans"]),
         f"- good/s ≥ the baseline's on every plan of ≥ {SPEED_MIN_OBJECTS} objects: "
         f"{_mark(to['speed_each'])} ({_below(result['plans'], 'speed')}); "
         f"≥ {SPEED_SUITE:g} × over the suite "

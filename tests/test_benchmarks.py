@@ -7,6 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import forcelayout as fl
@@ -90,7 +91,8 @@ def test_suite_quick(tmp_path: Path) -> None:
     for side in (f, b):
         for key in ("good_per_s", "geometric", "topological", "failures"):
             assert key in side
-    assert set(row["targets"]) == {"yield", "not_below_baseline", "diversity", "speed"}
+    assert set(row["targets"]) == {"yield", "not_below_baseline", "diversity",
+                                   "diversity_clearly_below", "speed"}
     assert "error" in bad and "missing" in bad["error"]  # an error row, not a crash
     o = result["overall"]
     assert o["plans"] == 2 and o["errors"] == 1
@@ -105,6 +107,25 @@ def test_suite_quick(tmp_path: Path) -> None:
     row["targets"]["speed"] = False  # a failing plan is named in its target's line
     speed_line = next(line for line in markdown(result).splitlines() if "good/s ≥" in line)
     assert "0 of 1 plans; below: bedroom)" in speed_line
+    if row["baseline"]["topological"]:  # a plan below the diversity target: ratio, interval
+        row["forcelayout"]["topological"] = 0.5 * row["baseline"]["topological"]
+        row["targets"]["diversity"] = False
+        row["diversity_ratio"]["topological"] = [0.4, 0.6]
+        assert "topo 0.50 [0.40, 0.60]" in markdown(result)
+
+
+def test_diversity_ratio_interval() -> None:
+    """The suite's bootstrap interval of a diversity ratio covers the true ratio."""
+    sys.path.insert(0, str(BENCH))
+    from suite import ratio_interval
+
+    rng = np.random.default_rng(1)
+    pts = rng.random((30, 2))
+    d = np.linalg.norm(pts[:, None] - pts[None], axis=-1)
+    lo, hi = ratio_interval(d, d)
+    assert lo < 1.0 < hi and hi - lo < 0.5
+    lo, hi = ratio_interval(0.5 * d, d)
+    assert hi < 0.95 and lo < 0.5 < hi  # half as diverse: clearly below 0.95
 
 
 def test_floor_quick(tmp_path: Path) -> None:

@@ -4,7 +4,8 @@ Each sample of a run is written as ordinary sequential code, a generator
 that ``yield``\\ s a request wherever it needs expensive, batchable work and
 receives the answer back: a :class:`SimRequest` for a simulation (answered
 with its :class:`~forcelayout.solver.SimulationResult`), a
-:class:`forcelayout.initial.ProposeRequest` for a set of start poses.
+:class:`forcelayout.initial.ProposeRequest` for a set of start poses, a
+:class:`forcelayout.initial.RelocateRequest` to draw some objects again.
 :func:`drive` runs many such samples side by side: at each round it gathers
 the requests of every sample still running, groups those of the same kind
 and ``key()`` (the same force model and solver settings; the same model's

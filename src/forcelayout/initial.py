@@ -13,7 +13,7 @@ the wrong wall. A plugin rule gets the same help by declaring a hint.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -27,7 +27,7 @@ from forcelayout.rules.base import ParamArrays, State
 from forcelayout.verdict import FloorVerdict, judge_floor
 
 __all__ = ["parents", "initial_poses", "start_poses", "propose_poses", "relocate", "Starts",
-           "ProposeRequest"]
+           "ProposeRequest", "RelocateRequest"]
 
 #: Start places beside the parent, where wall length is kept free next to it.
 _SIDE_PLACES = frozenset({"beside", "left", "right"})
@@ -531,8 +531,9 @@ class Starts:
     """The starts of one sample, one at a time: what :func:`start_poses` yields.
 
     :meth:`next` is a sample task (:mod:`forcelayout.batching`): it asks for
-    each set of start poses with a :class:`ProposeRequest`, so the samples of
-    a batch that draw a start at the same time draw them together. Give the
+    each set of start poses with a :class:`ProposeRequest` and for each fix
+    with a :class:`RelocateRequest`, so the samples of a batch that draw a
+    start (or fix one) at the same time draw together. Give the
     samples of a batch the same ``placer`` (:meth:`placer_of`) for that.
     """
 
@@ -568,8 +569,8 @@ class Starts:
             rows = np.zeros(model.n, dtype=bool)
             rows[sorted(verdict.at_fault)] = True
             rows = _movers(placer.parent, rows, with_parents=f % 2 == 1)  # parents: 2nd time
-            p2, y2 = _relocate(model, placer, np.flatnonzero(rows), pos, yaw, rng, self.tries,
-                               self.spread)
+            p2, y2 = yield RelocateRequest(placer, rng, tuple(np.flatnonzero(rows).tolist()),
+                                           pos, yaw, self.tries, self.spread)
             again = _judge(model, p2, y2)
             if len(again.failures) < len(verdict.failures):
                 pos, yaw, verdict = p2, y2, again
@@ -638,13 +639,25 @@ def _propose(placer: _Placer, rngs: list[np.random.Generator], pos: np.ndarray,
     """Place every row of each sample (poses (B, N, 2) and (B, N)), parents first."""
     placed: list[int] = []
     for r in placer.order:
-        placer.place(r, placed, pos, yaw, rngs, tries, spread)
+        placer.place(r, [placed] * len(rngs), pos, yaw, rngs, tries, spread)
         placed.append(r)
     return pos, yaw
 
 
+class _DrawerRequest:
+    """What the requests of one candidate drawer share: they run as one batch."""
+
+    placer: _Placer
+    tries: int
+    spread: float
+
+    def key(self) -> tuple:
+        """Requests with equal keys are placed as one batch."""
+        return (id(self.placer), self.tries, self.spread)
+
+
 @dataclass
-class ProposeRequest:
+class ProposeRequest(_DrawerRequest):
     """A sample's ask for one set of start poses (:func:`propose_poses`), batched by
     :func:`forcelayout.batching.drive` with the asks of other samples of the same model.
 
@@ -665,10 +678,6 @@ class ProposeRequest:
     yaw: np.ndarray
     tries: int
     spread: float
-
-    def key(self) -> tuple:
-        """Requests with equal keys are placed as one batch."""
-        return (id(self.placer), self.tries, self.spread)
 
     @staticmethod
     def run(requests: list[ProposeRequest]) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -703,14 +712,70 @@ def relocate(model: ForceModel, rows: list[int] | np.ndarray, pos: np.ndarray, y
 def _relocate(model: ForceModel, placer: _Placer, rows: list[int] | np.ndarray,
               pos: np.ndarray, yaw: np.ndarray, rng: np.random.Generator, tries: int,
               spread: float) -> tuple[np.ndarray, np.ndarray]:
-    pos, yaw = pos[None].copy(), yaw[None].copy()
-    moving = {int(r) for r in rows}
-    placed = [r for r in range(model.n) if r not in moving]
-    for r in placer.order:
-        if r in moving:
-            placer.place(r, placed, pos, yaw, [rng], tries, spread)
-            placed.append(r)
+    pos, yaw = _relocate_many(placer, [rows], pos[None], yaw[None], [rng], tries, spread)
     return pos[0], yaw[0]
+
+
+def _relocate_many(placer: _Placer, rows: Sequence[Iterable[int]], pos: np.ndarray,
+                   yaw: np.ndarray, rngs: list[np.random.Generator], tries: int, spread: float
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`relocate` for B samples, sample ``b`` moving ``rows[b]``: poses (B, N, 2) and
+    (B, N) (copies), each sample drawing from its own generator. Object by object in the
+    drawer's order, the samples that move it draw for it together, each judged against
+    the objects standing in its own room."""
+    pos, yaw = pos.copy(), yaw.copy()
+    moving = [{int(r) for r in rs} for rs in rows]
+    placed = [[r for r in range(placer.model.n) if r not in m] for m in moving]
+    for r in placer.order:
+        sub = [b for b, m in enumerate(moving) if r in m]
+        if not sub:
+            continue
+        p, y = pos[sub], yaw[sub]
+        placer.place(r, [placed[b] for b in sub], p, y, [rngs[b] for b in sub], tries, spread)
+        pos[sub], yaw[sub] = p, y
+        for b in sub:
+            placed[b].append(r)
+    return pos, yaw
+
+
+@dataclass
+class RelocateRequest(_DrawerRequest):
+    """A sample's ask to draw some of its objects again (:func:`relocate`), batched by
+    :func:`forcelayout.batching.drive` with the asks of other samples of the same candidate
+    drawer (whichever objects they move).
+
+    Attributes
+    ----------
+    placer : _Placer
+        The model's candidate drawer.
+    rng : numpy.random.Generator
+        The sample's generator.
+    rows : tuple of int
+        The rows to draw again, sorted; the others stay where they are.
+    pos : ndarray, shape (N, 2)
+    yaw : ndarray, shape (N,)
+        The sample's poses before.
+    tries, spread
+        As for :func:`propose_poses`.
+    """
+
+    placer: _Placer
+    rng: np.random.Generator
+    rows: tuple[int, ...]
+    pos: np.ndarray
+    yaw: np.ndarray
+    tries: int
+    spread: float
+
+    @staticmethod
+    def run(requests: list[RelocateRequest]) -> list[tuple[np.ndarray, np.ndarray]]:
+        """New poses ``(pos, yaw)`` for each request of one key, placed together."""
+        first = requests[0]
+        pos, yaw = _relocate_many(first.placer, [q.rows for q in requests],
+                                  np.stack([q.pos for q in requests]),
+                                  np.stack([q.yaw for q in requests]),
+                                  [q.rng for q in requests], first.tries, first.spread)
+        return [(pos[b], yaw[b]) for b in range(len(requests))]
 
 
 class _Placer:
@@ -748,11 +813,12 @@ class _Placer:
 
     def _clearance(self, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray, ext: np.ndarray,
                    solid: list[int], slack: np.ndarray, pos: np.ndarray, yaw: np.ndarray,
-                   doors: bool) -> tuple[np.ndarray, np.ndarray]:
+                   doors: bool, present: np.ndarray | None = None
+                   ) -> tuple[np.ndarray, np.ndarray]:
         """Whether footprints of half extent ``ext`` at the candidates (B, K, 2) lie inside
         the floor, and their clearance (at most 0.3 m) to the ``solid`` rows of their sample
-        and the door swing squares (what the door check asks; the simulation keeps a deeper
-        entry zone free); both (B, K)."""
+        (those ``present`` (B, S) marks, all by default) and the door swing squares (what
+        the door check asks; the simulation keeps a deeper entry zone free); both (B, K)."""
         hr, hf = rgt * ext[0], fwd * ext[1]
         corners = np.stack([cand - hr - hf, cand + hr - hf, cand + hr + hf, cand - hr + hf],
                            axis=2)
@@ -768,6 +834,8 @@ class _Placer:
                                      np.stack([oc, os_], axis=2)[:, None],
                                      np.stack([-os_, oc], axis=2)[:, None],
                                      self.half[solid][None, None])  # (B, K, S)
+            if present is not None:  # rows that stand in another sample's room only
+                sep = np.where(present[:, None, :], sep, np.inf)
             # objects this one is related to may stand right beside it
             clear = np.minimum(clear, (sep + slack).min(axis=2))
         dc, dr, df, dh = self.room.door_squares
@@ -793,10 +861,11 @@ class _Placer:
                 out.append(other)
         return out
 
-    def place(self, r: int, placed: list[int], pos: np.ndarray, yaw: np.ndarray,
+    def place(self, r: int, placed: Sequence[Sequence[int]], pos: np.ndarray, yaw: np.ndarray,
               rngs: list[np.random.Generator], tries: int, spread: float) -> None:
-        """Choose a pose for row ``r`` of each sample given the ``placed`` rows; writes
-        ``pos[:, r], yaw[:, r]`` (poses (B, N, 2) and (B, N), one generator per sample).
+        """Choose a pose for row ``r`` of each sample given its placed rows (``placed[b]``
+        for sample ``b``); writes ``pos[:, r], yaw[:, r]`` (poses (B, N, 2) and (B, N), one
+        generator per sample).
 
         Where no candidate of the first draw is clear and meets every rule it can
         be judged by, with room for its children, a second draw is made and the
@@ -804,10 +873,22 @@ class _Placer:
         the walls are far enough from the first). Each sample draws from its own
         generator and is judged against its own objects only.
         """
+        if any(pl is not placed[0] for pl in placed):  # samples that draw a different
+            # number of candidates (their side partners differ) are placed apart
+            q = int(self.parent[r])
+            extra = [min(len(self._side_partners(r, q, pl)), 2) for pl in placed]
+            if len(set(extra)) > 1:
+                for e in sorted(set(extra)):
+                    bs = [b for b, x in enumerate(extra) if x == e]
+                    p, y = pos[bs], yaw[bs]
+                    self.place(r, [placed[b] for b in bs], p, y, [rngs[b] for b in bs],
+                               tries, spread)
+                    pos[bs], yaw[bs] = p, y
+                return
         rank, score, cand, cyaw = self._best(r, placed, pos, yaw, rngs, tries, spread)
         again = np.flatnonzero(rank < _ALL_MET)
         if len(again):
-            r2, s2, c2, y2 = self._best(r, placed, pos[again], yaw[again],
+            r2, s2, c2, y2 = self._best(r, [placed[b] for b in again], pos[again], yaw[again],
                                         [rngs[b] for b in again], tries, spread)
             blocked = np.maximum(rank[again], r2) <= -10.0  # neither clear: the more clearance
             take = (r2 > rank[again]) | (blocked & (s2 > score[again]))
@@ -874,7 +955,7 @@ class _Placer:
             more_yaw = rng.uniform(-np.pi, np.pi, extra)
         return np.concatenate([cand, more]), np.concatenate([cyaw, more_yaw]), loose
 
-    def _best(self, r: int, placed: list[int], pos: np.ndarray, yaw: np.ndarray,
+    def _best(self, r: int, placed: Sequence[Sequence[int]], pos: np.ndarray, yaw: np.ndarray,
               rngs: list[np.random.Generator], tries: int, spread: float
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """One draw of candidates for row ``r`` per sample, judged: the rank, clearance,
@@ -882,7 +963,7 @@ class _Placer:
         model, half, walkable, window = self.model, self.half, self.walkable, self.window
         w = self.wants[r]
         sides = self.sides[r]
-        drawn = [self._draw(r, placed, pos[b], yaw[b], rng, tries, spread)
+        drawn = [self._draw(r, list(placed[b]), pos[b], yaw[b], rng, tries, spread)
                  for b, rng in enumerate(rngs)]
         cand = np.stack([d[0] for d in drawn])  # (B, K, 2)
         cyaw = np.stack([d[1] for d in drawn])  # (B, K)
@@ -892,13 +973,18 @@ class _Placer:
         fwd = np.stack([-s, c], axis=2)
         # judge the footprint widened by the room its side children need, and the
         # footprint alone; walkable covers are no obstacle (furniture stands on them)
-        solid = [] if walkable[r] else [p for p in placed if not walkable[p]]
+        # the rows standing in some sample's room, and which stand in each one's
+        shared = all(pl is placed[0] or list(pl) == list(placed[0]) for pl in placed)
+        rows = list(placed[0]) if shared else sorted(set().union(*placed))
+        solid = [] if walkable[r] else [p for p in rows if not walkable[p]]
+        present = None if shared else np.array([[p in set(pl) for p in solid] for pl in placed],
+                                                dtype=bool).reshape(len(placed), len(solid))
         slack = np.array([0.045 if p in w.related else 0.0 for p in solid])
 
         def clearance(centres: np.ndarray, ext: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             # footprints of half extent ext at the centres, turned as the candidates are
             return self._clearance(centres, rgt, fwd, ext, solid, slack, pos, yaw,
-                                   not walkable[r])
+                                   not walkable[r], present)
 
         def roomy(centres: np.ndarray, ext: np.ndarray) -> np.ndarray:
             # whether those footprints lie inside the floor and clear of what stands there
@@ -929,7 +1015,16 @@ class _Placer:
         bk = cand.shape[:2]
         unmet = 4.0 * _unmet(self.room, w, cand.reshape(-1, 2), fwd.reshape(-1, 2),
                              rgt.reshape(-1, 2), half[r]).reshape(bk)
-        unmet += _unmet_rules(model, self.by_object[r], r, cand, cyaw, pos, yaw, placed)
+        if shared:
+            unmet += _unmet_rules(model, self.by_object[r], r, cand, cyaw, pos, yaw,
+                                  list(placed[0]))
+        else:  # the rules judged against the objects of each sample's room
+            same: dict[tuple[int, ...], list[int]] = {}
+            for b, pl in enumerate(placed):
+                same.setdefault(tuple(pl), []).append(b)
+            for pl, bs in same.items():
+                unmet[bs] += _unmet_rules(model, self.by_object[r], r, cand[bs], cyaw[bs],
+                                          pos[bs], yaw[bs], list(pl))
         if window is not None and window.tall[:, r].any():  # tall: not in front of a window
             z = window.tall[:, r]
             sep = geo.obb_separation(window.centre[z][None, None] - cand[:, :, None],

@@ -336,24 +336,28 @@ def test_chairs_around_a_table_start_at_its_sides_square_to_it():
 
 def test_relocations_batched_are_the_ones_drawn_alone():
     """Samples that draw different objects again, batched together, get what each gets
-    alone, bit for bit (each draws from its own generator, judged in its own room)."""
-    plan = fl.load_plan("living_room")
-    model = ForceModel(plan)
-    ask = []
-    pick = np.random.default_rng(7)
-    for k in range(12):  # some move nothing, some one object, some half of them
-        rows = sorted(pick.choice(model.n, size=[0, 1, 3, model.n // 2][k % 4], replace=False))
-        pos, yaw = propose_poses(model, np.random.default_rng(k))
-        ask.append(RelocateRequest(Starts.placer_of(model), np.random.default_rng(100 + k),
-                                   tuple(rows), pos, yaw, 16, 0.3))
-    alone = [relocate(model, list(q.rows), q.pos, q.yaw, np.random.default_rng(100 + k))
-             for k, q in enumerate(ask)]
-    placer = Starts.placer_of(model)
-    for q in ask:
-        q.placer = placer
-    together = RelocateRequest.run(ask)
-    for (p1, y1), (p2, y2), q in zip(alone, together, ask, strict=True):
-        np.testing.assert_array_equal(p1, p2)
-        np.testing.assert_array_equal(y1, y2)
-        still = [r for r in range(model.n) if r not in q.rows]
-        np.testing.assert_array_equal(p2[still], q.pos[still])  # the others stay put
+    alone, bit for bit (each draws from its own generator, judged in its own room: an
+    object that another sample has not placed yet blocks no view in this one)."""
+    for name, trials in (("living_room", 1), ("l_shaped_studio", 6)):
+        model = ForceModel(fl.load_plan(name))
+        for trial in range(trials):
+            pick = np.random.default_rng(trial)
+            ask = []
+            for k in range(16):  # some move nothing, some one object, some half of them
+                size = [0, 1, 3, model.n // 2][k % 4]
+                rows = sorted(pick.choice(model.n, size=size, replace=False).tolist())
+                pos, yaw = propose_poses(model, np.random.default_rng(1000 * trial + k))
+                ask.append(RelocateRequest(Starts.placer_of(model),
+                                           np.random.default_rng(100 + k), tuple(rows), pos,
+                                           yaw, 16, 0.3))
+            alone = [relocate(model, list(q.rows), q.pos, q.yaw,
+                              np.random.default_rng(100 + k)) for k, q in enumerate(ask)]
+            placer = Starts.placer_of(model)
+            for q in ask:
+                q.placer = placer
+            together = RelocateRequest.run(ask)
+            for (p1, y1), (p2, y2), q in zip(alone, together, ask, strict=True):
+                np.testing.assert_array_equal(p1, p2)
+                np.testing.assert_array_equal(y1, y2)
+                still = [r for r in range(model.n) if r not in q.rows]
+                np.testing.assert_array_equal(p2[still], q.pos[still])  # the others stay

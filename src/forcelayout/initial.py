@@ -412,18 +412,26 @@ def _bindings_of(model: ForceModel) -> list[list[tuple[RuleGroup, int]]]:
 
 def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: int,
                  cand: np.ndarray, cyaw: np.ndarray, pos: np.ndarray, yaw: np.ndarray,
-                 placed: list[int]) -> np.ndarray:
+                 placed: Sequence[Sequence[int]]) -> np.ndarray:
     """How many of object ``r``'s bindings each candidate pose misses, by the rules' own checks.
 
     Every binding the object takes part in (as object or as target) whose
-    other object is placed already is judged. Candidates (B, K, 2) and
-    (B, K) of B samples with poses (B, N, 2) and (B, N); each sample's
-    candidates are judged against its own objects (one stacked state, a
-    rule that is not ``batched`` once per sample). Shape (B, K).
+    other object stands in the sample's room (``placed[b]``: the rows placed in
+    sample ``b``) is judged. Candidates (B, K, 2) and (B, K) of B samples with
+    poses (B, N, 2) and (B, N); each sample's candidates are judged against its
+    own objects (one stacked state, a rule that is not ``batched`` once per
+    sample). Where samples have placed different objects, each sample's state
+    holds the rows placed in any of them, those not placed in it far outside
+    the room (no built-in rule judges a binding by objects that far away); a
+    plugin rule that is not ``batched`` is judged on each sample's own rows.
+    Shape (B, K).
     """
     nb, k = cyaw.shape
     unmet = np.zeros((nb, k))
-    done = set(placed)
+    shared = all(pl is placed[0] or list(pl) == list(placed[0]) for pl in placed)
+    sets = [set(pl) for pl in placed]
+    rows = list(placed[0]) if shared else sorted(set().union(*sets))
+    done = set(rows)
 
     def other(g: RuleGroup, b: int) -> int:  # the binding's other object, -1 for the room
         if g.j is None:
@@ -433,11 +441,24 @@ def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: in
     judged = [(g, b) for g, b in bindings if g.j is None or other(g, b) in done]
     if not judged:
         return unmet
-    rows = list(placed)
+    if not shared and not all(g.rule.batched for g, _ in judged):
+        same: dict[tuple[int, ...], list[int]] = {}  # each sample's own rows, as alone
+        for b, pl in enumerate(placed):
+            same.setdefault(tuple(pl), []).append(b)
+        for pl, bs in same.items():
+            unmet[bs] = _unmet_rules(model, bindings, r, cand[bs], cyaw[bs], pos[bs],
+                                     yaw[bs], [list(pl)] * len(bs))
+        return unmet
     at = {p: q for q, p in enumerate(rows)}
     m = len(rows) + k  # rows of each sample's state: the placed objects, then the candidates
     size = np.concatenate([model.size[rows], np.repeat(model.size[r:r + 1], k, 0)])
-    state = State(np.concatenate([pos[:, rows], cand], axis=1).reshape(nb * m, 2),
+    here = pos[:, rows]
+    live = None
+    if not shared:  # rows placed in some other sample only: far outside this one's room
+        live = np.array([[p in sb for p in rows] for sb in sets], dtype=bool).reshape(nb, -1)
+        far = model.room.bounds[2:] + 1e6 + 10.0 * np.arange(len(rows))[:, None]
+        here = np.where(live[:, :, None], here, far[None])
+    state = State(np.concatenate([here, cand], axis=1).reshape(nb * m, 2),
                   np.concatenate([yaw[:, rows], cyaw], axis=1).reshape(nb * m),
                   np.tile(size, (nb, 1)), model.room, model.ids, samples=nb)
     base = np.repeat(np.arange(nb) * m, k)  # (B K,) first row of each candidate's sample
@@ -459,7 +480,10 @@ def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: in
                 np.asarray(g.rule.satisfied(state.sample(s), i[:k], None if j is None
                                             else j[:k], one), dtype=bool)
                 for s in range(nb)])
-        unmet += ~np.asarray(ok, dtype=bool).reshape(nb, k)
+        miss = ~np.asarray(ok, dtype=bool).reshape(nb, k)
+        if live is not None and g.j is not None:  # judged only where the other one stands
+            miss &= live[:, at[other(g, b)]][:, None]
+        unmet += miss
     return unmet
 
 
@@ -1015,16 +1039,7 @@ class _Placer:
         bk = cand.shape[:2]
         unmet = 4.0 * _unmet(self.room, w, cand.reshape(-1, 2), fwd.reshape(-1, 2),
                              rgt.reshape(-1, 2), half[r]).reshape(bk)
-        if shared:
-            unmet += _unmet_rules(model, self.by_object[r], r, cand, cyaw, pos, yaw,
-                                  list(placed[0]))
-        else:  # the rules judged against the objects of each sample's room
-            same: dict[tuple[int, ...], list[int]] = {}
-            for b, pl in enumerate(placed):
-                same.setdefault(tuple(pl), []).append(b)
-            for pl, bs in same.items():
-                unmet[bs] += _unmet_rules(model, self.by_object[r], r, cand[bs], cyaw[bs],
-                                          pos[bs], yaw[bs], list(pl))
+        unmet += _unmet_rules(model, self.by_object[r], r, cand, cyaw, pos, yaw, placed)
         if window is not None and window.tall[:, r].any():  # tall: not in front of a window
             z = window.tall[:, r]
             sep = geo.obb_separation(window.centre[z][None, None] - cand[:, :, None],

@@ -1,5 +1,7 @@
 """Plans shared by several test modules."""
 
+import math
+
 #: Eight tall shelves, each bound to a wall, in a 3 x 2.4 m room: more wall than there is.
 SHELVES = {
     "name": "shelves",
@@ -20,3 +22,31 @@ TABLE_FOR_FOUR = {
     "rules": [{"rule": "in_middle", "object": "table"}]
     + [{"rule": "around", "object": f"chair_{k}", "target": "table"} for k in range(4)],
 }
+
+
+#: A bed at a wall with a nightstand bound to it by `next_to` only (no wall rule of its own).
+BED_AND_NIGHTSTAND = {
+    "name": "bed and nightstand",
+    "room": {"polygon": [[0, 0], [3.6, 0], [3.6, 3.4], [0, 3.4]], "height": 2.6,
+             "doors": [{"wall": 0, "offset": 0.6, "width": 0.85}],
+             "windows": [{"wall": 2, "offset": 1.8, "width": 1.2}]},
+    "objects": [
+        {"id": "bed", "category": "bed", "size": [1.6, 2.0, 0.5], "primary": True},
+        {"id": "nightstand", "category": "nightstand", "size": [0.45, 0.4, 0.55]},
+        {"id": "wardrobe", "category": "wardrobe", "size": [1.2, 0.6, 2.0], "primary": True},
+    ],
+    "rules": [
+        {"rule": "at_wall", "object": "bed"},
+        {"rule": "next_to", "object": "nightstand", "target": "bed"},
+        {"rule": "at_wall", "object": "wardrobe"},
+    ],
+}
+
+
+def backs_offset(bed: tuple[float, float, float], other: tuple[float, float, float],
+                 bed_depth: float, other_depth: float) -> float:
+    """How far (metres) ``other``'s back stands in front of the bed's back, along the bed;
+    poses are ``(x, y, yaw)``."""
+    front = (-math.sin(bed[2]), math.cos(bed[2]))
+    along = (other[0] - bed[0]) * front[0] + (other[1] - bed[1]) * front[1]
+    return (along - 0.5 * other_depth) - (-0.5 * bed_depth)

@@ -23,7 +23,7 @@ from forcelayout.geometry import RoomGeometry, box_corners, box_separation
 from forcelayout.rules import StartHint
 from forcelayout.testing import plans
 from forcelayout.validate import check_layout
-from sample_plans import TABLE_FOR_FOUR
+from sample_plans import BED_AND_NIGHTSTAND, TABLE_FOR_FOUR, backs_offset
 
 ROOM = {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]], "height": 2.7,
         "doors": [{"wall": 0, "offset": 1.0, "width": 0.9}],
@@ -245,3 +245,16 @@ def test_chairs_around_a_table_start_all_round_it() -> None:
     plan = Plan.from_dict(TABLE_FOR_FOUR)
     run = rejection_sample(plan, 3, seed=0, max_tries=300)
     assert len(run.layouts) == 3
+
+
+def test_baseline_draws_an_object_beside_its_parent_with_the_backs_level() -> None:
+    """The baseline reads a side-by-side hint as the start poses do: backs level."""
+    plan = fl.Plan.from_dict(BED_AND_NIGHTSTAND)
+    offsets = []
+    for seed in range(20):
+        lay = rule_aware_layout(plan, seed)
+        b, n = lay.poses.get("bed"), lay.poses.get("nightstand")
+        if b is not None and n is not None and n.surface == "floor":
+            offsets.append(backs_offset((b.x, b.y, b.yaw), (n.x, n.y, n.yaw), 2.0, 0.4))
+    assert len(offsets) >= 15
+    assert np.median(np.abs(offsets)) < 0.1

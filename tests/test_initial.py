@@ -17,7 +17,7 @@ from forcelayout.initial import (
     start_poses,
 )
 from forcelayout.testing import plans
-from sample_plans import TABLE_FOR_FOUR
+from sample_plans import BED_AND_NIGHTSTAND, TABLE_FOR_FOUR, backs_offset
 
 
 @pytest.fixture(scope="module")
@@ -361,3 +361,20 @@ def test_relocations_batched_are_the_ones_drawn_alone():
                 np.testing.assert_array_equal(y1, y2)
                 still = [r for r in range(model.n) if r not in q.rows]
                 np.testing.assert_array_equal(p2[still], q.pos[still])  # the others stay
+
+
+def test_an_object_beside_its_parent_starts_with_the_backs_level():
+    """A nightstand bound to a bed by next_to alone starts at the head of the bed, its back
+    level with the bed's, not at the middle of the bed's long side; so it stays there."""
+    plan = fl.Plan.from_dict(BED_AND_NIGHTSTAND)
+    model = ForceModel(plan)
+    bed, ns = model.ids.index("bed"), model.ids.index("nightstand")
+    level = 0
+    for seed in range(12):
+        pos, yaw = propose_poses(model, np.random.default_rng(seed))
+        off = backs_offset((*pos[bed], yaw[bed]), (*pos[ns], yaw[ns]), 2.0, 0.4)
+        level += abs(off) < 0.05
+    assert level >= 11
+    lay = fl.solve(plan, 3)
+    b, n = lay.poses["bed"], lay.poses["nightstand"]
+    assert abs(backs_offset((b.x, b.y, b.yaw), (n.x, n.y, n.yaw), 2.0, 0.4)) < 0.15

@@ -385,6 +385,8 @@ def _near_target(rng: np.random.Generator, k: int, where: str | None, tp: Pose,
             side = np.full(k, -1.0 if where == "left" else 1.0)
         u = side[:, None] * rq[None]
         gap, jitter = rng.uniform(0.01, 0.12, k), rng.normal(0.0, 0.05, k)
+        # backs level, as the start poses put them (side by side, the same heading)
+        jitter = jitter - side * (thalf[1] - half[1])  # perp turns with the side
     elif where is not None:  # centred on the target (a cover under it)
         return np.array([tp.x, tp.y]) + rng.normal(0.0, 0.05, (k, 2))
     else:
@@ -516,7 +518,8 @@ def rule_aware_layout(
       into the room;
     * a rule with ``start.parent`` set (``next_to``, ``in_front_of``, ...):
       dropped near its target at random, on the side the hint's ``place``
-      names (``beside``, ``left``, ``right``, ``front``, ``back``), centred
+      names (``beside``, ``left``, ``right``: with the backs level, as a
+      nightstand at the head of a bed; ``front``, ``back``), centred
       on it for a target place that names no side (a rug ``under`` a table),
       all around it otherwise; then against the nearest wall if a wall or
       corner hint asks;

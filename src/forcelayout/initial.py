@@ -321,7 +321,10 @@ def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius,
         return cand, cyaw
     if places & _SIDE_PLACES:
         wall = _back_wall(room, pos[q], yaw[q], half[q]) if "wall" in places else -1
-        cand = pos[q] + rq * (side[:, None] * (half[q, 0] + half[r, 0] + gap))
+        # beside it with the backs level (a nightstand at the head of the bed, a side
+        # table at the sofa's arm), not at the middle of its side
+        cand = (pos[q] + rq * (side[:, None] * (half[q, 0] + half[r, 0] + gap))
+                - fq * (half[q, 1] - half[r, 1]))
         if wall < 0:
             return cand, same
         # half the draws on the parent's wall; the other half against whichever wall is

@@ -328,3 +328,39 @@ def test_a_term_without_a_stacked_form_runs_once_per_sample():
     assert [r.steps for r in together] == [simulate(model, pos[b], yaw[b],
                                                     SolverConfig(max_steps=20)).steps
                                            for b in range(3)]
+
+
+def test_simulations_wait_for_the_samples_still_drawing():
+    """A request that waits (a simulation) is answered once no other kind is pending, so
+    samples that need one, two or three cheap steps first still simulate in one batch."""
+    from forcelayout.batching import drive
+
+    batches: list[tuple[str, int]] = []
+
+    class Cheap:
+        wait = False
+
+        def key(self):
+            return 0
+
+        @staticmethod
+        def run(requests):
+            batches.append(("cheap", len(requests)))
+            return [None] * len(requests)
+
+    class Sim(Cheap):
+        wait = True
+
+        @staticmethod
+        def run(requests):
+            batches.append(("sim", len(requests)))
+            return [len(requests)] * len(requests)
+
+    def task(cheap: int):
+        for _ in range(cheap):
+            yield Cheap()
+        together = yield Sim()
+        return together
+
+    assert drive([task(0), task(1), task(3)]) == [3, 3, 3]
+    assert batches == [("cheap", 2), ("cheap", 1), ("cheap", 1), ("sim", 3)]

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Generator, Hashable, Sequence
 from dataclasses import dataclass
-from typing import Any, TypeVar
+from typing import Any, ClassVar, TypeVar
 
 import numpy as np
 
@@ -56,6 +56,10 @@ class SimRequest:
     yaw: np.ndarray
     config: SolverConfig
 
+    #: Answered only in a round where every pending request waits too: samples still
+    #: drawing or fixing starts join the batch instead of forming smaller ones later.
+    wait: ClassVar[bool] = True
+
     def key(self) -> Hashable:
         """Requests with equal keys run as one batch."""
         return (id(self.model), self.config)
@@ -80,7 +84,11 @@ def drive(tasks: Sequence[SampleTask[T]]) -> list[T]:
     tasks : sequence of generator
         Each yields requests (objects with ``key()`` and a static
         ``run(requests) -> answers``, such as :class:`SimRequest`) and is
-        sent the answer to each; what it returns is its outcome.
+        sent the answer to each; what it returns is its outcome. A request
+        whose class sets ``wait = True`` (a simulation) is answered only in
+        a round where every pending request waits: the samples still
+        drawing or fixing their starts join its batch rather than forming a
+        smaller one a round later. The order of answers changes no outcome.
 
     Returns
     -------
@@ -99,10 +107,13 @@ def drive(tasks: Sequence[SampleTask[T]]) -> list[T]:
     for k in range(len(tasks)):
         advance(k, None)
     while pending:
+        # requests that wait (simulations) are answered once nothing else is pending
+        ready = {k: req for k, req in pending.items() if not getattr(req, "wait", False)}
+        asked = ready or pending
         groups: dict[tuple[type, Hashable], list[int]] = {}
-        for k, req in pending.items():
+        for k, req in asked.items():
             groups.setdefault((type(req), req.key()), []).append(k)
-        asked, pending = pending, {}
+        pending = {k: req for k, req in pending.items() if k not in asked}
         for (kind, _), ks in groups.items():
             answers = kind.run([asked[k] for k in ks])
             for k, answer in zip(ks, answers, strict=True):

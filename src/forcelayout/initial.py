@@ -413,6 +413,16 @@ def _bindings_of(model: ForceModel) -> list[list[tuple[RuleGroup, int]]]:
     return out
 
 
+def _rooms(placed: Sequence[Sequence[int]]) -> tuple[list[int], list[set[int]] | None]:
+    """The rows placed in some sample (``placed[b]``: sample ``b``'s), and each sample's
+    set of them; the first sample's rows in its order and None when all placed the same."""
+    first = list(placed[0])
+    if all(pl is placed[0] or list(pl) == first for pl in placed):
+        return first, None
+    sets = [set(pl) for pl in placed]
+    return sorted(set().union(*sets)), sets
+
+
 def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: int,
                  cand: np.ndarray, cyaw: np.ndarray, pos: np.ndarray, yaw: np.ndarray,
                  placed: Sequence[Sequence[int]]) -> np.ndarray:
@@ -431,9 +441,7 @@ def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: in
     """
     nb, k = cyaw.shape
     unmet = np.zeros((nb, k))
-    shared = all(pl is placed[0] or list(pl) == list(placed[0]) for pl in placed)
-    sets = [set(pl) for pl in placed]
-    rows = list(placed[0]) if shared else sorted(set().union(*sets))
+    rows, sets = _rooms(placed)
     done = set(rows)
 
     def other(g: RuleGroup, b: int) -> int:  # the binding's other object, -1 for the room
@@ -444,7 +452,7 @@ def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: in
     judged = [(g, b) for g, b in bindings if g.j is None or other(g, b) in done]
     if not judged:
         return unmet
-    if not shared and not all(g.rule.batched for g, _ in judged):
+    if sets is not None and not all(g.rule.batched for g, _ in judged):
         same: dict[tuple[int, ...], list[int]] = {}  # each sample's own rows, as alone
         for b, pl in enumerate(placed):
             same.setdefault(tuple(pl), []).append(b)
@@ -457,7 +465,7 @@ def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: in
     size = np.concatenate([model.size[rows], np.repeat(model.size[r:r + 1], k, 0)])
     here = pos[:, rows]
     live = None
-    if not shared:  # rows placed in some other sample only: far outside this one's room
+    if sets is not None:  # rows placed in some other sample only: far outside this one's room
         live = np.array([[p in sb for p in rows] for sb in sets], dtype=bool).reshape(nb, -1)
         far = model.room.bounds[2:] + 1e6 + 10.0 * np.arange(len(rows))[:, None]
         here = np.where(live[:, :, None], here, far[None])
@@ -1001,11 +1009,10 @@ class _Placer:
         # judge the footprint widened by the room its side children need, and the
         # footprint alone; walkable covers are no obstacle (furniture stands on them)
         # the rows standing in some sample's room, and which stand in each one's
-        shared = all(pl is placed[0] or list(pl) == list(placed[0]) for pl in placed)
-        rows = list(placed[0]) if shared else sorted(set().union(*placed))
+        rows, sets = _rooms(placed)
         solid = [] if walkable[r] else [p for p in rows if not walkable[p]]
-        present = None if shared else np.array([[p in set(pl) for p in solid] for pl in placed],
-                                                dtype=bool).reshape(len(placed), len(solid))
+        present = None if sets is None else np.array(
+            [[p in sb for p in solid] for sb in sets], dtype=bool).reshape(len(sets), len(solid))
         slack = np.array([0.045 if p in w.related else 0.0 for p in solid])
 
         def clearance(centres: np.ndarray, ext: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

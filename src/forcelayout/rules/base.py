@@ -63,7 +63,9 @@ class StartHint:
         convex corner), ``"middle"`` (near the floor's centroid),
         ``"window"`` / ``"door"`` (near an opening; with ``"wall"``, on a
         wall near it). Relative to the target: ``"beside"`` (either side),
-        ``"left"``, ``"right"``, ``"front"``, ``"back"`` (its side of the target),
+        ``"left"``, ``"right"`` (that side; these three with the backs level,
+        as a nightstand at the head of a bed), ``"front"``, ``"back"`` (its
+        side of the target),
         ``"all_round"`` (any side: the target keeps room on every side for it),
         ``"beneath"`` (centred under the target: a walkable cover).
     turn : str, optional

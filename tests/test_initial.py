@@ -122,7 +122,7 @@ def test_a_start_within_the_rule_share_is_not_searched_further():
 
     assert allowed_misses(20, 0.95) == 1 and allowed_misses(19, 0.95) == 0
     assert allowed_misses(0, 0.5) == 0 and allowed_misses(10, 1.0) == 0
-    v = FloorVerdict(["next_to(a, b)"], {0}, unmet=1)
+    v = FloorVerdict(["next_to(a, b)"], {0}, missed={3})
     assert v.passes(1) and not v.passes(0) and not v.ok
     assert not FloorVerdict(["collision: 'a' overlaps 'b'"], {0, 1}).passes(5)
     model = ForceModel(fl.load_plan("living_room"))

@@ -32,17 +32,19 @@ class FloorVerdict:
         Failed checks (``"<check>: ..."``) and unmet bindings (``"rule(object, target)"``).
     at_fault : set of int
         Rows of the objects to move.
-    unmet : int
-        How many of ``failures`` are unmet bindings (the rest are failed checks).
     missed : set of int
-        Positions of the unmet bindings in the model's ``bindings`` (filled by
-        :func:`judge_floor`).
+        Positions of the unmet bindings in the model's ``bindings``; each is
+        one of ``failures`` (the rest are failed checks).
     """
 
     failures: list[str] = field(default_factory=list)
     at_fault: set[int] = field(default_factory=set)
-    unmet: int = 0
     missed: set[int] = field(default_factory=set)
+
+    @property
+    def unmet(self) -> int:
+        """How many of ``failures`` are unmet bindings."""
+        return len(self.missed)
 
     @property
     def ok(self) -> bool:
@@ -109,7 +111,6 @@ def judge_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
         if not ok:
             b = model.bindings[k]
             out.failures.append(str(b))
-            out.unmet += 1
             out.missed.add(k)
             out.at_fault.add(row[b.object])
     return out

@@ -192,6 +192,36 @@ def test_a_plugin_rule_that_is_not_batched_runs_once_per_sample():
         unregister("crowd_test")
 
 
+class _Lonely(_Crowd):
+    """A plugin check that reads the all-pairs matrix: met with at most one neighbour."""
+
+    def satisfied(self, state, i, j, p):
+        return (state.separations < 0.5).sum(1)[i] <= 2
+
+
+@pytest.mark.parametrize("plugin", [False, True])
+def test_floors_judged_together_get_the_verdicts_they_get_alone(plugin):
+    from forcelayout.verdict import judge_floor, judge_floors
+
+    register("lonely_test")(_Lonely)
+    try:
+        extra = [{"rule": "lonely_test", "object": "shelf"}] if plugin else []
+        model = ForceModel(fl.load_plan({**ROOM, "rules": ROOM["rules"] + extra}))
+        pos, yaw = _starts(model, 3)
+        rng = np.random.default_rng(5)  # and anywhere: collisions, unmet rules, blocked paths
+        lo, hi = model.room.bounds[:2], model.room.bounds[2:]
+        pos = np.concatenate([pos, rng.uniform(lo, hi, (5, model.n, 2))])
+        yaw = np.concatenate([yaw, rng.uniform(-np.pi, np.pi, (5, model.n))])
+        together = judge_floors(model, pos, yaw)
+        alone = [judge_floor(model, p, y) for p, y in zip(pos, yaw, strict=True)]
+        assert [(v.failures, v.at_fault, v.missed) for v in together] == \
+            [(v.failures, v.at_fault, v.missed) for v in alone]
+        assert sum(v.unmet for v in alone) > 0 and sum(not v.ok for v in alone) > 1
+        assert any(v.missed != alone[0].missed for v in alone)
+    finally:
+        unregister("lonely_test")
+
+
 def test_a_subclass_with_its_own_force_is_not_batched_unless_it_says_so():
     from forcelayout.rules.binary import Near
 

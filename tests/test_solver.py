@@ -130,7 +130,7 @@ def test_a_start_that_passes_is_settled_not_rearranged():
 def test_a_settle_that_does_not_pass_yet_goes_on_once(monkeypatch):
     """A floor still moving that fails when the settle's steps run out settles as many steps
     again; one that passes then is kept as it is."""
-    from forcelayout import pipeline
+    from forcelayout import pipeline, verdict
     from forcelayout.batching import drive
     from forcelayout.initial import propose_poses
     from forcelayout.verdict import FloorVerdict
@@ -141,11 +141,12 @@ def test_a_settle_that_does_not_pass_yet_goes_on_once(monkeypatch):
     opts = fl.Options(solver=SolverConfig(settle_steps=6))
     verdicts = []
 
-    def judge(model, pos, yaw, check_kwargs=None):
-        verdicts.append(FloorVerdict() if verdicts else FloorVerdict(["collision: x"], {0}))
-        return verdicts[-1]
+    def judge(model, pos, yaw, check_kwargs=None, *, checks=True):
+        for _ in pos:
+            verdicts.append(FloorVerdict() if verdicts else FloorVerdict(["collision: x"], {0}))
+        return verdicts[-len(pos):]
 
-    monkeypatch.setattr(pipeline, "judge_floor", judge)
+    monkeypatch.setattr(verdict, "judge_floors", judge)
 
     def settle():
         return drive([pipeline._settle(model, model, pos, yaw, opts, 0)])[0]

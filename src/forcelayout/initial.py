@@ -24,7 +24,7 @@ from forcelayout.batching import SampleTask, drive
 from forcelayout.clearance import WindowTerm
 from forcelayout.forces import ForceModel, RuleGroup
 from forcelayout.rules.base import ParamArrays, State
-from forcelayout.verdict import FloorVerdict, judge_floor
+from forcelayout.verdict import FloorVerdict, JudgeRequest
 
 __all__ = ["parents", "initial_poses", "start_poses", "propose_poses", "relocate", "Starts",
            "ProposeRequest", "RelocateRequest"]
@@ -597,7 +597,7 @@ class Starts:
         placer = self.placer
         yaw = rng.uniform(-np.pi, np.pi, model.n)
         pos, yaw = yield ProposeRequest(placer, rng, yaw, self.tries, self.spread)
-        verdict = _judge(model, pos, yaw)
+        verdict = yield _judging(model, pos, yaw)
         for f in range(max(0, self.fixes)):
             if verdict.passes(self.misses) or not verdict.at_fault:
                 break
@@ -606,7 +606,7 @@ class Starts:
             rows = _movers(placer.parent, rows, with_parents=f % 2 == 1)  # parents: 2nd time
             p2, y2 = yield RelocateRequest(placer, rng, tuple(np.flatnonzero(rows).tolist()),
                                            pos, yaw, self.tries, self.spread)
-            again = _judge(model, p2, y2)
+            again = yield _judging(model, p2, y2)
             if len(again.failures) < len(verdict.failures):
                 pos, yaw, verdict = p2, y2, again
         return pos, yaw, verdict
@@ -624,15 +624,16 @@ def _movers(parent: np.ndarray, rows: np.ndarray, *, with_parents: bool = False
     return rows | np.isin(parent, np.flatnonzero(rows))
 
 
-def _judge(model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> FloorVerdict:
-    """The verdict on start poses; only the rules where rows are not the plan's objects.
+def _judging(model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> JudgeRequest:
+    """The ask for the verdict on start poses; only the rules where rows are not the plan's
+    objects.
 
     Rows that are not objects of the plan (an area's rectangle) are not
     checked here: their members are checked once the area is carried into
     the room.
     """
     known = set(model.plan.ids)
-    return judge_floor(model, pos, yaw, checks=all(oid in known for oid in model.ids))
+    return JudgeRequest(model, pos, yaw, checks=all(oid in known for oid in model.ids))
 
 
 def propose_poses(

@@ -26,7 +26,7 @@ from forcelayout.plan import Plan
 from forcelayout.repair import repair_floor
 from forcelayout.solver import SimulationResult
 from forcelayout.surfaces import check_surfaces, surface_task
-from forcelayout.verdict import allowed_misses, judge_floor
+from forcelayout.verdict import JudgeRequest, allowed_misses
 
 __all__ = ["Placement", "realise", "realise_batch", "prepare", "SETTLE_STARTS", "SETTLE_MIN_STEPS",
            "START_RULE_SATISFACTION"]
@@ -113,11 +113,11 @@ def _settle(model: ForceModel, quiet: ForceModel, pos: np.ndarray, yaw: np.ndarr
     settle = replace(cfg, max_steps=cfg.settle_steps,
                      min_steps=min(cfg.min_steps, SETTLE_MIN_STEPS, cfg.settle_steps))
     res = yield SimRequest(quiet, pos, yaw, settle)
-    ok = judge_floor(model, res.pos, res.yaw, opts.check_kwargs).passes(misses)
+    ok = (yield JudgeRequest(model, res.pos, res.yaw, opts.check_kwargs)).passes(misses)
     if not ok and not res.converged:
         more = yield SimRequest(quiet, res.pos, res.yaw, settle)
         res = replace(more, steps=res.steps + more.steps)
-        ok = judge_floor(model, res.pos, res.yaw, opts.check_kwargs).passes(misses)
+        ok = (yield JudgeRequest(model, res.pos, res.yaw, opts.check_kwargs)).passes(misses)
     return res, ok
 
 

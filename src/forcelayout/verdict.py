@@ -17,7 +17,7 @@ from forcelayout.forces import ForceModel
 from forcelayout.layout import Layout, Pose
 from forcelayout.validate import check_layout
 
-__all__ = ["FloorVerdict", "judge_floor", "allowed_misses"]
+__all__ = ["FloorVerdict", "JudgeRequest", "judge_floor", "judge_floors", "allowed_misses"]
 
 _QUOTED = re.compile(r"'([^']+)'")
 
@@ -93,24 +93,85 @@ def judge_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
     -------
     FloorVerdict
     """
+    return judge_floors(model, np.asarray(pos)[None], np.asarray(yaw)[None], check_kwargs,
+                        checks=checks)[0]
+
+
+def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
+                 check_kwargs: dict | None = None, *, checks: bool = True
+                 ) -> list[FloorVerdict]:
+    """:func:`judge_floor` for B arrangements of one model, poses (B, N, 2) and (B, N).
+
+    The rules are judged for all of them at once (one stacked state; a rule
+    that is not ``batched`` once per arrangement); each verdict is the one
+    :func:`judge_floor` gives that arrangement alone.
+    """
+    pos = np.asarray(pos, dtype=float)
+    yaw = np.asarray(yaw, dtype=float)
+    nb = len(pos)
     row = {oid: r for r, oid in enumerate(model.ids)}
-    out = FloorVerdict()
+    out = [FloorVerdict() for _ in range(nb)]
     if checks:
-        poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
-                 for oid, p, y in zip(model.ids, pos, yaw, strict=True)}
-        report = check_layout(Layout(model.plan, poses), **(check_kwargs or {}))
-        out.failures += report.failures
-        for fail in report.failures:
-            check = fail.split(":", 1)[0]
-            if check in ("collision", "door", "window", "outside"):
-                out.at_fault.update(row[n] for n in _QUOTED.findall(fail) if n in row)
-        for blockers in report.blocked_by.values():
-            out.at_fault.update(row[n] for n in blockers if n in row)
-    met = model.satisfied(model.state(pos, yaw))
+        for v, p, y in zip(out, pos, yaw, strict=True):
+            poses = {oid: Pose(float(a[0]), float(a[1]), float(t))
+                     for oid, a, t in zip(model.ids, p, y, strict=True)}
+            report = check_layout(Layout(model.plan, poses), **(check_kwargs or {}))
+            v.failures += report.failures
+            for fail in report.failures:
+                check = fail.split(":", 1)[0]
+                if check in ("collision", "door", "window", "outside"):
+                    v.at_fault.update(row[n] for n in _QUOTED.findall(fail) if n in row)
+            for blockers in report.blocked_by.values():
+                v.at_fault.update(row[n] for n in blockers if n in row)
+    if nb == 1:
+        met = {k: np.array([ok]) for k, ok in
+               model.satisfied(model.state(pos[0], yaw[0])).items()}
+    else:
+        stacked = model.stacked(nb)
+        met = stacked.satisfied(stacked.state(pos.reshape(-1, 2), yaw.reshape(-1)))
     for k, ok in met.items():
-        if not ok:
-            b = model.bindings[k]
-            out.failures.append(str(b))
-            out.missed.add(k)
-            out.at_fault.add(row[b.object])
+        if ok.all():
+            continue
+        b = model.bindings[k]
+        for s in np.flatnonzero(~ok):
+            v = out[s]
+            v.failures.append(str(b))
+            v.missed.add(k)
+            v.at_fault.add(row[b.object])
     return out
+
+
+@dataclass
+class JudgeRequest:
+    """A sample's ask for the verdict on a floor arrangement (:func:`judge_floor`),
+    batched by :func:`forcelayout.batching.drive` with the asks of other samples of the
+    same model (:func:`judge_floors`).
+
+    Attributes
+    ----------
+    model : ForceModel
+    pos : ndarray, shape (N, 2)
+    yaw : ndarray, shape (N,)
+    check_kwargs : dict, optional
+    checks : bool
+        As for :func:`judge_floor`.
+    """
+
+    model: ForceModel
+    pos: np.ndarray
+    yaw: np.ndarray
+    check_kwargs: dict | None = None
+    checks: bool = True
+
+    def key(self) -> tuple:
+        """Requests with equal keys are judged as one batch."""
+        kw = None if self.check_kwargs is None else tuple(sorted(self.check_kwargs.items()))
+        return (id(self.model), kw, self.checks)
+
+    @staticmethod
+    def run(requests: list[JudgeRequest]) -> list[FloorVerdict]:
+        """The verdicts of requests with the same key, judged together."""
+        first = requests[0]
+        return judge_floors(first.model, np.stack([q.pos for q in requests]),
+                            np.stack([q.yaw for q in requests]), first.check_kwargs,
+                            checks=first.checks)

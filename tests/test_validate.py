@@ -487,3 +487,35 @@ def test_checks_never_crash_on_random_plans_and_fractions_stay_in_range(plan, se
     for oid, who in rep.blocked_by.items():
         assert oid not in who
         assert not any(plan.object(b).is_walkable for b in who)
+
+
+@settings(max_examples=25, deadline=None)
+@given(plan=plans(max_objects=6), seed=st.integers(0, 2**16), count=st.integers(2, 5))
+def test_layouts_checked_together_get_the_reports_they_get_alone(plan, seed, count):
+    from forcelayout.validate.checks import check_floors
+
+    lays = [random_layout(plan, seed + k, reject=False) for k in range(count)]
+    together = check_floors(lays)
+    for lay, rep in zip(lays, together, strict=True):
+        alone = check_layout(lay)
+        assert rep.failures == alone.failures and rep.unreachable == alone.unreachable
+        assert rep.blocked_by == alone.blocked_by
+        assert (rep.free_fraction, rep.navigable_fraction) == (alone.free_fraction,
+                                                               alone.navigable_fraction)
+        assert np.array_equal(rep.free_mask, alone.free_mask)
+
+
+def test_crowded_layouts_checked_together_fail_as_they_fail_alone():
+    """Collisions, objects outside, in door swings and window zones, blocked paths: the
+    same lines, floor by floor, whether checked together or alone."""
+    from forcelayout.validate.checks import check_floors
+
+    plan = make_plan(BEDROOM_OBJECTS)
+    rng = np.random.default_rng(0)
+    lays = [Layout(plan, {o.id: Pose(*rng.uniform(-0.3, 4.3, 2), rng.uniform(-3.2, 3.2))
+                          for o in plan.objects}) for _ in range(24)]
+    together = check_floors(lays)
+    alone = [check_layout(lay) for lay in lays]
+    assert [r.failures for r in together] == [r.failures for r in alone]
+    kinds = {f.split(":", 1)[0] for r in alone for f in r.failures}
+    assert {"collision", "outside", "door", "reachable"} <= kinds

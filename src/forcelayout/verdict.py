@@ -15,7 +15,7 @@ import numpy as np
 
 from forcelayout.forces import ForceModel
 from forcelayout.layout import Layout, Pose
-from forcelayout.validate import check_layout
+from forcelayout.validate.checks import check_floors
 
 __all__ = ["FloorVerdict", "JudgeRequest", "judge_floor", "judge_floors", "allowed_misses"]
 
@@ -102,9 +102,10 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
                  ) -> list[FloorVerdict]:
     """:func:`judge_floor` for B arrangements of one model, poses (B, N, 2) and (B, N).
 
-    The rules are judged for all of them at once (one stacked state; a rule
-    that is not ``batched`` once per arrangement); each verdict is the one
-    :func:`judge_floor` gives that arrangement alone.
+    The checks run for all of them at once
+    (:func:`forcelayout.validate.checks.check_floors`) and so do the rules (one
+    stacked state; a rule that is not ``batched`` once per arrangement); each
+    verdict is the one :func:`judge_floor` gives that arrangement alone.
     """
     pos = np.asarray(pos, dtype=float)
     yaw = np.asarray(yaw, dtype=float)
@@ -112,10 +113,11 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
     row = {oid: r for r, oid in enumerate(model.ids)}
     out = [FloorVerdict() for _ in range(nb)]
     if checks:
-        for v, p, y in zip(out, pos, yaw, strict=True):
-            poses = {oid: Pose(float(a[0]), float(a[1]), float(t))
-                     for oid, a, t in zip(model.ids, p, y, strict=True)}
-            report = check_layout(Layout(model.plan, poses), **(check_kwargs or {}))
+        layouts = [Layout(model.plan, {oid: Pose(float(a[0]), float(a[1]), float(t))
+                                       for oid, a, t in zip(model.ids, p, y, strict=True)})
+                   for p, y in zip(pos, yaw, strict=True)]
+        reports = check_floors(layouts, **(check_kwargs or {}))
+        for v, report in zip(out, reports, strict=True):
             v.failures += report.failures
             for fail in report.failures:
                 check = fail.split(":", 1)[0]

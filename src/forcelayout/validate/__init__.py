@@ -15,7 +15,13 @@ Examples
 ok: 58% of the floor free (47% with the wall band)
 """
 
-from forcelayout.validate.checks import CHECKS, CheckReport, check_layout, window_zones
+from forcelayout.validate.checks import (
+    CHECKS,
+    CheckReport,
+    check_floors,
+    check_layout,
+    window_zones,
+)
 from forcelayout.validate.loop import (
     Candidate,
     Judgement,
@@ -30,6 +36,7 @@ from forcelayout.validate.occupancy import RoomGrid, footprint_distance, occupan
 
 __all__ = [
     "check_layout",
+    "check_floors",
     "CheckReport",
     "CHECKS",
     "occupancy_mask",

@@ -40,7 +40,7 @@ Each failure is a line ``"<check>: <reason naming the objects>"``.
 from __future__ import annotations
 
 import contextvars
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -63,7 +63,7 @@ if TYPE_CHECKING:
     from forcelayout.layout import Layout
     from forcelayout.plan import Room
 
-__all__ = ["CheckReport", "check_layout", "CHECKS", "window_zones"]
+__all__ = ["CheckReport", "check_layout", "check_floors", "CHECKS", "window_zones"]
 
 #: Names of the checks, in the order they run.
 CHECKS = ("collision", "outside", "door", "window", "surface", "navigable", "reachable")
@@ -224,6 +224,36 @@ def check_layout(
     >>> report.ok, report.failures                 # doctest: +SKIP
     (False, ["door: 'wardrobe' blocks the swing area of door 0"])
     """
+    return check_floors([layout], agent_radius=agent_radius, grid=grid,
+                        min_free_fraction=min_free_fraction, reach=reach,
+                        max_overlap=max_overlap, door_clearance=door_clearance,
+                        window_clearance=window_clearance, wall_band=wall_band)[0]
+
+
+def check_floors(
+    layouts: Sequence[Layout],
+    *,
+    agent_radius: float = 0.2,
+    grid: float = 0.05,
+    min_free_fraction: float = 0.3,
+    reach: float = 0.25,
+    max_overlap: float = 1e-4,
+    door_clearance: bool = True,
+    window_clearance: bool = True,
+    wall_band: bool = False,
+) -> list[CheckReport]:
+    """:func:`check_layout` for many layouts, the checks of their floors run together.
+
+    Layouts of one plan with the same floor objects share each step of the
+    floor checks (one array with a leading layout axis); each report is the
+    one :func:`check_layout` gives that layout alone. Parameters as for
+    :func:`check_layout`.
+
+    Returns
+    -------
+    list of CheckReport
+        One per layout, in order.
+    """
     _check_positive("agent_radius", agent_radius)
     _check_positive("grid", grid, allow_zero=False)
     _check_positive("reach", reach)
@@ -231,27 +261,42 @@ def check_layout(
     if not 0.0 <= min_free_fraction <= 1.0:
         raise ValueError(f"check_layout: min_free_fraction must lie in [0, 1], "
                          f"got {min_free_fraction!r}")
-    ids, pos, yaw, half = _floor_arrays(layout)
     args = (agent_radius, grid, min_free_fraction, reach, max_overlap, door_clearance,
             window_clearance, wall_band)
     kept = _FLOOR_CHECKS.get()
-    key = (id(layout.plan), tuple(ids), pos.tobytes(), yaw.tobytes(), half.tobytes(), *args)
-    hit = None if kept is None else kept.get(key)
-    if hit is None or hit[0] is not layout.plan:
-        floor = _floor_checks(layout, ids, pos, yaw, half, *args)
-        if kept is not None:
-            if len(kept) >= _FLOOR_CHECKS_KEPT:
-                kept.pop(next(iter(kept)))
-            kept[key] = (layout.plan, floor)
-    else:
-        floor = hit[1]
-    before, after, free_fraction, navigable_fraction, unreachable, blocked_by, free, origin \
-        = floor
-    failures = before + _surfaces(layout, max_overlap) + after
-    return CheckReport(ok=not failures, failures=failures, free_fraction=free_fraction,
-                       navigable_fraction=navigable_fraction, unreachable=list(unreachable),
-                       blocked_by={k: list(v) for k, v in blocked_by.items()},
-                       free_mask=free.copy(), origin=origin.copy(), grid=float(grid))
+    floors: list[tuple | None] = []
+    todo: dict[tuple, list[int]] = {}  # layouts whose floors are checked together
+    arrays = []
+    for k, layout in enumerate(layouts):
+        ids, pos, yaw, half = _floor_arrays(layout)
+        key = (id(layout.plan), tuple(ids), pos.tobytes(), yaw.tobytes(), half.tobytes(),
+               *args)
+        hit = None if kept is None else kept.get(key)
+        floors.append(hit[1] if hit is not None and hit[0] is layout.plan else None)
+        arrays.append((key, ids, pos, yaw, half))
+        if floors[-1] is None:
+            todo.setdefault((id(layout.plan), tuple(ids), half.tobytes()), []).append(k)
+    for ks in todo.values():
+        _, ids, _, _, half = arrays[ks[0]]
+        done = _floor_checks(layouts[ks[0]], ids, np.stack([arrays[k][2] for k in ks]),
+                             np.stack([arrays[k][3] for k in ks]), half, *args)
+        for k, floor in zip(ks, done, strict=True):
+            floors[k] = floor
+            if kept is not None:
+                if len(kept) >= _FLOOR_CHECKS_KEPT:
+                    kept.pop(next(iter(kept)))
+                kept[arrays[k][0]] = (layouts[k].plan, floor)
+    out = []
+    for layout, floor in zip(layouts, floors, strict=True):
+        before, after, free_fraction, navigable_fraction, unreachable, blocked_by, free, \
+            origin = floor
+        failures = before + _surfaces(layout, max_overlap) + after
+        out.append(CheckReport(ok=not failures, failures=failures, free_fraction=free_fraction,
+                               navigable_fraction=navigable_fraction,
+                               unreachable=list(unreachable),
+                               blocked_by={k: list(v) for k, v in blocked_by.items()},
+                               free_mask=free.copy(), origin=origin.copy(), grid=float(grid)))
+    return out
 
 
 #: Within :func:`reusing_floor_checks`: the floor checks of recent layouts, key -> (plan,
@@ -278,75 +323,126 @@ def reusing_floor_checks() -> Iterator[None]:
         _FLOOR_CHECKS.reset(token)
 
 
+#: Bytes of footprint distances (float32, floors x objects x cells) computed at once.
+_DIST_BYTES = 32 * 2**20
+
+
 def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
                   half: np.ndarray, agent_radius: float, grid: float,
                   min_free_fraction: float, reach: float, max_overlap: float,
-                  door_clearance: bool, window_clearance: bool, wall_band: bool) -> tuple:
-    """Every check of the floor objects alone (all but ``surfaces``): the failures before and
-    after where ``surfaces`` goes, the fractions, the unreachable objects, what blocks them,
-    the free mask and its origin."""
+                  door_clearance: bool, window_clearance: bool, wall_band: bool) -> list[tuple]:
+    """Every check of the floor objects alone (all but ``surfaces``) of B floors of
+    ``layout``'s plan with the same objects ``ids`` at poses (B, N, 2) and (B, N), checked
+    together: per floor, the failures before and after where ``surfaces`` goes, the
+    fractions, the unreachable objects, what blocks them, the free mask and its origin."""
     room = layout.room
     plan = layout.plan
-    failures: list[str] = []
+    nb, n = yaw.shape
     walk = np.array([plan.object(i).is_walkable for i in ids], dtype=bool)
     height = np.array([plan.object(i).size[2] for i in ids], dtype=float)
-    right, front = right_vectors(yaw), front_vectors(yaw)
-    corners = corners_from_axes(pos, right, front, half)
-    polys = _polygons(corners)
+    right, front = right_vectors(yaw), front_vectors(yaw)  # (B, N, 2)
+    halves = np.broadcast_to(half, (nb, n, 2))
+    corners = corners_from_axes(pos.reshape(-1, 2), right.reshape(-1, 2),
+                                front.reshape(-1, 2), halves.reshape(-1, 2)).reshape(nb, n, 4, 2)
+    polys = _Footprints(corners)
     solid = np.nonzero(~walk)[0]  # floor obstacles
+    boxes = (pos, right, front, halves)
 
-    failures += _collisions(ids, pos, right, front, half, polys, solid, max_overlap)
-    failures += _outside(ids, corners, polys, room, max_overlap)
+    before: list[list[str]] = [[] for _ in range(nb)]
+    for b, lines in enumerate(_collisions(ids, boxes, polys, solid, max_overlap)):
+        before[b] += lines
+    for b, lines in enumerate(_outside(ids, corners, polys, room, max_overlap)):
+        before[b] += lines
     if door_clearance:
-        failures += _doors(ids, pos, right, front, half, polys, solid, room, max_overlap)
+        for b, lines in enumerate(_doors(ids, boxes, polys, solid, room, max_overlap)):
+            before[b] += lines
     if window_clearance:
-        failures += _windows(ids, pos, right, front, half, polys, solid, height, layout,
-                             max_overlap)
-    after: list[str] = []
+        for b, lines in enumerate(_windows(ids, boxes, polys, solid, height, layout,
+                                           max_overlap)):
+            before[b] += lines
     rg = room_grid(room, grid=grid, agent_radius=agent_radius)
-    if len(ids):
-        dist2 = _footprint_dist2(rg.xs, rg.ys, pos - rg.origin, yaw, half)
-    else:
-        dist2 = np.zeros((0, *rg.shape), dtype=np.float32)
     r2 = np.float32(agent_radius) ** 2
-    if len(solid):
-        clear = dist2[solid].min(0) > r2
-        blocked = dist2[solid] <= r2  # (S, H, W): cells each obstacle takes from the agent
-    else:
-        clear = np.ones(rg.shape, dtype=bool)
-        blocked = np.zeros((0, *rg.shape), dtype=bool)
     n_floor = max(rg.n_floor, 1)
-    free_fraction = float((rg.floor & clear).sum()) / n_floor
-    free = rg.wall_free & clear
-    navigable_fraction = float(free.sum()) / n_floor
-    judged = navigable_fraction if wall_band else free_fraction
-    if judged < min_free_fraction:
-        shown, need = _percents(judged, min_free_fraction)
-        where = "for the centre of" if wall_band else "for"
-        after.append(f"navigable: only {shown}% of the floor is free {where} an agent of "
-                     f"radius {agent_radius:g} m (need {need}%)")
+    prim = [k for k, oid in enumerate(ids) if plan.object(oid).primary]
+    out = []
+    chunk = max(1, _DIST_BYTES // max(4 * n * rg.floor.size, 1))
+    for c0 in range(0, nb, chunk):  # footprint distances of a few floors at a time
+        bs = range(c0, min(nb, c0 + chunk))
+        if n:
+            dist2 = _footprint_dist2(rg.xs, rg.ys, (pos[bs[0]:bs[-1] + 1] - rg.origin)
+                                     .reshape(-1, 2), yaw[bs[0]:bs[-1] + 1].reshape(-1),
+                                     halves[bs[0]:bs[-1] + 1].reshape(-1, 2))
+            dist2 = dist2.reshape(len(bs), n, *rg.shape)
+        else:
+            dist2 = np.zeros((len(bs), 0, *rg.shape), dtype=np.float32)
+        if len(solid):
+            clear = dist2[:, solid].min(1) > r2  # (b, H, W)
+        else:
+            clear = np.ones((len(bs), *rg.shape), dtype=bool)
+        free = rg.wall_free & clear
+        # free regions, each floor's numbered on their own (no cell links two floors)
+        labels, _ = ndimage.label(free, structure=_IN_PLANE) if prim else (None, 0)
+        for m, b in enumerate(bs):
+            after: list[str] = []
+            free_fraction = float((rg.floor & clear[m]).sum()) / n_floor
+            navigable_fraction = float(free[m].sum()) / n_floor
+            judged = navigable_fraction if wall_band else free_fraction
+            if judged < min_free_fraction:
+                shown, need = _percents(judged, min_free_fraction)
+                where = "for the centre of" if wall_band else "for"
+                after.append(f"navigable: only {shown}% of the floor is free {where} an agent "
+                             f"of radius {agent_radius:g} m (need {need}%)")
+            unreachable, blocked_by, reach_fail = _reachable(
+                ids, prim, solid, dist2[m], r2, free[m], None if labels is None else labels[m],
+                rg, agent_radius + reach)
+            after += reach_fail
+            out.append((before[b], after, free_fraction, navigable_fraction, unreachable,
+                        blocked_by, free[m], rg.origin.copy()))
+    return out
 
-    unreachable, blocked_by, reach_fail = _reachable(
-        layout, ids, solid, dist2, blocked, free, rg, agent_radius + reach)
-    after += reach_fail
-    return (failures, after, free_fraction, navigable_fraction, unreachable, blocked_by, free,
-            rg.origin.copy())
+
+#: 4-connected within each floor of a stack (B, H, W), never from one floor to the next.
+_IN_PLANE = np.array([np.zeros((3, 3)), [[0, 1, 0], [1, 1, 1], [0, 1, 0]], np.zeros((3, 3))],
+                     dtype=bool)
 
 
-def _collisions(ids: list[str], pos: np.ndarray, right: np.ndarray, front: np.ndarray,
-                half: np.ndarray, polys: np.ndarray, solid: np.ndarray, max_overlap: float
-                ) -> list[str]:
+class _Footprints:
+    """The shapely polygons of footprints (B, N, 4, 2), made when first asked for."""
+
+    def __init__(self, corners: np.ndarray):
+        self.corners = corners
+        self._made: dict[tuple[int, int], object] = {}
+
+    def __call__(self, b: int, ks: np.ndarray) -> np.ndarray:
+        """Polygons of footprints ``ks`` of floor ``b``."""
+        out = np.empty(len(ks), dtype=object)
+        for m, k in enumerate(ks.tolist()):
+            poly = self._made.get((b, k))
+            if poly is None:
+                poly = self._made[(b, k)] = shapely.polygons(self.corners[b, k])
+            out[m] = poly
+        return out
+
+
+def _collisions(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
+                solid: np.ndarray, max_overlap: float) -> list[list[str]]:
+    pos, right, front, half = boxes
+    nb = len(pos)
     if len(solid) < 2:
-        return []
-    sep = separation_matrix(pos[solid], right[solid], front[solid], half[solid])
-    i, j = np.nonzero(np.triu(sep < 0.0, k=1))
-    if len(i) == 0:
-        return []
-    i, j = solid[i], solid[j]
-    area = shapely.area(shapely.intersection(polys[i], polys[j]))
-    bad = area > max_overlap
-    return [f"collision: {ids[a]!r} and {ids[b]!r} overlap by {_area(s)} m²"
-            for a, b, s in zip(i[bad], j[bad], area[bad], strict=True)]
+        return [[] for _ in range(nb)]
+    sep = separation_matrix(pos[:, solid], right[:, solid], front[:, solid], half[:, solid])
+    out = []
+    for b in range(nb):
+        i, j = np.nonzero(np.triu(sep[b] < 0.0, k=1))
+        if len(i) == 0:
+            out.append([])
+            continue
+        i, j = solid[i], solid[j]
+        area = shapely.area(shapely.intersection(polys(b, i), polys(b, j)))
+        bad = area > max_overlap
+        out.append([f"collision: {ids[a]!r} and {ids[c]!r} overlap by {_area(s)} m²"
+                    for a, c, s in zip(i[bad], j[bad], area[bad], strict=True)])
+    return out
 
 
 def _surely_inside(corners: np.ndarray, room) -> np.ndarray:
@@ -364,45 +460,64 @@ def _surely_inside(corners: np.ndarray, room) -> np.ndarray:
     return inside & ~vertex_in
 
 
-def _outside(ids: list[str], corners: np.ndarray, polys: np.ndarray, room,
-             max_overlap: float) -> list[str]:
+def _outside(ids: list[str], corners: np.ndarray, polys: _Footprints, room,
+             max_overlap: float) -> list[list[str]]:
+    nb, n = corners.shape[:2]
     if not ids:
-        return []
-    cand = np.nonzero(~_surely_inside(corners, room))[0]
-    if len(cand) == 0:
-        return []
-    area = shapely.area(shapely.difference(polys[cand], room.shape))
-    bad = area > max_overlap
-    return [f"outside: {ids[k]!r} pokes {_area(a)} m² out of the room"
-            for k, a in zip(cand[bad], area[bad], strict=True)]
+        return [[] for _ in range(nb)]
+    sure = _surely_inside(corners.reshape(-1, 4, 2), room).reshape(nb, n)
+    out = []
+    for b in range(nb):
+        cand = np.nonzero(~sure[b])[0]
+        if len(cand) == 0:
+            out.append([])
+            continue
+        area = shapely.area(shapely.difference(polys(b, cand), room.shape))
+        bad = area > max_overlap
+        out.append([f"outside: {ids[k]!r} pokes {_area(a)} m² out of the room"
+                    for k, a in zip(cand[bad], area[bad], strict=True)])
+    return out
 
 
-def _zone_overlaps(pos: np.ndarray, right: np.ndarray, front: np.ndarray, half: np.ndarray,
-                   polys: np.ndarray, cand: np.ndarray, zones: tuple[np.ndarray, ...],
-                   max_overlap: float) -> list[tuple[int, int]]:
-    """(object, zone) pairs whose footprint covers more than ``max_overlap`` of the zone."""
+def _zone_overlaps(boxes: tuple[np.ndarray, ...], polys: _Footprints, cand: np.ndarray,
+                   zones: tuple[np.ndarray, ...], max_overlap: float
+                   ) -> list[list[tuple[int, int]]]:
+    """Per floor, the (object, zone) pairs whose footprint covers more than ``max_overlap``
+    of the zone."""
+    pos, right, front, half = boxes
+    nb = len(pos)
     zc, zr, zf, zh = zones
     if len(cand) == 0 or len(zc) == 0:
-        return []
+        return [[] for _ in range(nb)]
     n = len(cand)
-    sep = separation_matrix(np.vstack([pos[cand], zc]), np.vstack([right[cand], zr]),
-                            np.vstack([front[cand], zf]), np.vstack([half[cand], zh]))[:n, n:]
-    k, z = np.nonzero(sep < 0.0)
-    if len(k) == 0:
-        return []
-    squares = _polygons(corners_from_axes(zc, zr, zf, zh))
-    area = shapely.area(shapely.intersection(polys[cand[k]], squares[z]))
-    bad = area > max_overlap
-    return [(int(cand[a]), int(b)) for a, b in zip(k[bad], z[bad], strict=True)]
+
+    def both(a: np.ndarray, z: np.ndarray) -> np.ndarray:  # the candidates, then the zones
+        return np.concatenate([a[:, cand], np.broadcast_to(z, (nb, *z.shape))], axis=1)
+
+    sep = separation_matrix(both(pos, zc), both(right, zr), both(front, zf),
+                            both(half, zh))[:, :n, n:]
+    out: list[list[tuple[int, int]]] = []
+    squares = None
+    for b in range(nb):
+        k, z = np.nonzero(sep[b] < 0.0)
+        if len(k) == 0:
+            out.append([])
+            continue
+        if squares is None:
+            squares = _polygons(corners_from_axes(zc, zr, zf, zh))
+        area = shapely.area(shapely.intersection(polys(b, cand[k]), squares[z]))
+        bad = area > max_overlap
+        out.append([(int(cand[a]), int(c)) for a, c in zip(k[bad], z[bad], strict=True)])
+    return out
 
 
-def _doors(ids: list[str], pos: np.ndarray, right: np.ndarray, front: np.ndarray,
-           half: np.ndarray, polys: np.ndarray, solid: np.ndarray, room, max_overlap: float
-           ) -> list[str]:
+def _doors(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
+           solid: np.ndarray, room, max_overlap: float) -> list[list[str]]:
     if len(room.doors) == 0:
-        return []
-    hits = _zone_overlaps(pos, right, front, half, polys, solid, room.door_squares, max_overlap)
-    return [f"door: {ids[a]!r} blocks the swing area of door {b}" for a, b in hits]
+        return [[] for _ in range(len(boxes[0]))]
+    hits = _zone_overlaps(boxes, polys, solid, room.door_squares, max_overlap)
+    return [[f"door: {ids[a]!r} blocks the swing area of door {b}" for a, b in h]
+            for h in hits]
 
 
 def window_zones(room: Room) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
@@ -438,19 +553,20 @@ def _window_zones(geom: RoomGeometry, specs: list) -> tuple[np.ndarray, ...]:
     return centre, w.tangent.copy(), w.normal.copy(), half, sill
 
 
-def _windows(ids: list[str], pos: np.ndarray, right: np.ndarray, front: np.ndarray,
-             half: np.ndarray, polys: np.ndarray, solid: np.ndarray, height: np.ndarray,
-             layout: Layout, max_overlap: float) -> list[str]:
+def _windows(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
+             solid: np.ndarray, height: np.ndarray, layout: Layout, max_overlap: float
+             ) -> list[list[str]]:
+    nb = len(boxes[0])
+    out: list[list[str]] = [[] for _ in range(nb)]
     if not len(layout.plan.room.windows) or not len(solid):
-        return []
+        return out
     zc, zr, zf, zh, sill = _window_zones(layout.room, layout.plan.room.windows)
-    out = []
     for k in np.nonzero(zh[:, 1] > 0)[0]:  # a zone of depth 0 is switched off
         tall = solid[height[solid] > sill[k] + 1e-9]
         zone = (zc[k:k + 1], zr[k:k + 1], zf[k:k + 1], zh[k:k + 1])
-        for a, _ in _zone_overlaps(pos, right, front, half, polys, tall, zone, max_overlap):
-            out.append(f"window: {ids[a]!r} ({height[a]:.2f} m tall) stands in front of "
-                       f"window {k} (sill {sill[k]:.2f} m)")
+        for b, hits in enumerate(_zone_overlaps(boxes, polys, tall, zone, max_overlap)):
+            out[b] += [f"window: {ids[a]!r} ({height[a]:.2f} m tall) stands in front of "
+                       f"window {k} (sill {sill[k]:.2f} m)" for a, _ in hits]
     return out
 
 
@@ -515,14 +631,17 @@ def _wall_surface(oid: str, p, size: tuple[float, float, float], surf: str, room
     return out
 
 
-def _reachable(layout: Layout, ids: list[str], solid: np.ndarray, dist2: np.ndarray,
-               blocked: np.ndarray, free: np.ndarray, rg, near: float
+def _reachable(ids: list[str], prim: list[int], solid: np.ndarray, dist2: np.ndarray,
+               r2: np.float32, free: np.ndarray, labels: np.ndarray | None, rg, near: float
                ) -> tuple[list[str], dict[str, list[str]], list[str]]:
-    prim = [k for k, oid in enumerate(ids) if layout.plan.object(oid).primary]
+    """Whether the agent gets within ``near`` of each primary object (rows ``prim``) from a
+    door; ``labels`` numbers the free regions of this floor (in a stack of floors, after
+    those of the floors before it: the numbers name regions, in the order a label of this
+    floor alone would number them)."""
     if not prim:
         return [], {}, []
     seeds = rg.door_seeds
-    labels, n = ndimage.label(free)  # 4-connected in 2D
+    n = int(labels.max())
     if len(seeds):
         sources = list(seeds)
         door_labels = [np.unique(labels[s & free]) for s in seeds]
@@ -559,6 +678,7 @@ def _reachable(layout: Layout, ids: list[str], solid: np.ndarray, dist2: np.ndar
             continue
         unreachable.append(ids[k])
         if paths is None:
+            blocked = dist2[solid] <= r2  # (S, H, W): cells each obstacle takes from the agent
             paths = _PathFinder(rg.floor, free, blocked)
         for d in np.nonzero(~ok)[0]:
             who = [ids[solid[s]] for s in paths.blockers(int(d), sources[d], near_cells[row])

@@ -114,6 +114,17 @@ def test_object_across_a_reflex_corner_is_outside_even_with_all_corners_inside()
     assert len(fails) == 1 and "'shelf'" in fails[0]
 
 
+def test_object_across_the_notch_of_a_u_shaped_room_is_outside():
+    """Every corner on the floor and no wall corner inside it, yet a wall runs across it."""
+    u_room = [[0, 0], [6, 0], [6, 4], [4, 4], [4, 2], [2, 2], [2, 4], [0, 4]]
+    plan = make_plan([obj("bench", 4.0, 1.0)], polygon=u_room, doors=())
+    lay = Layout(plan, {"bench": Pose(3.0, 3.0, 0.0)})
+    assert lay.room.contains(lay.corners("bench")).all()
+    fails = of(check_layout(lay), "outside")
+    assert fails == ["outside: 'bench' pokes 2.00 m² out of the room"]
+    assert of(check_layout(Layout(plan, {"bench": Pose(3.0, 1.0, 0.0)})), "outside") == []
+
+
 def test_object_in_a_door_square_blocks_the_door():
     rep = check_layout(bedroom(chair_1=Pose(2.5, 0.5, 0.0)))
     fails = of(rep, "door")

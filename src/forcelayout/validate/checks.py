@@ -446,18 +446,31 @@ def _collisions(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprint
 
 
 def _surely_inside(corners: np.ndarray, room) -> np.ndarray:
-    """Footprints certainly inside the floor: all corners inside, no wall vertex inside them."""
+    """Footprints (N, 4, 2) certainly inside the floor: every corner inside, and no wall
+    crossing them (a wall vertex inside one, or a wall across it: a bench over the notch
+    of a U-shaped room has every corner on the floor)."""
     inside = room.contains(corners).all(-1)  # (N,)
-    # a wall vertex strictly inside a footprint means the floor cuts into it
-    rel = room.polygon[None, :, :] - corners.mean(1)[:, None, :]  # (N, V, 2)
+    centre = corners.mean(1)
     ax = corners[:, 1] - corners[:, 0]
     ay = corners[:, 3] - corners[:, 0]
     hx = 0.5 * np.linalg.norm(ax, axis=-1)
     hy = 0.5 * np.linalg.norm(ay, axis=-1)
-    u = np.abs((rel * ax[:, None, :]).sum(-1)) / np.maximum(2 * hx[:, None], 1e-12)
-    v = np.abs((rel * ay[:, None, :]).sum(-1)) / np.maximum(2 * hy[:, None], 1e-12)
-    vertex_in = ((u < hx[:, None] - 1e-9) & (v < hy[:, None] - 1e-9)).any(-1)
-    return inside & ~vertex_in
+    ux = ax / np.maximum(2 * hx, 1e-12)[:, None]  # unit axes of each footprint
+    uy = ay / np.maximum(2 * hy, 1e-12)[:, None]
+    # separating axes of each wall segment and each footprint: the footprint's two axes
+    # and the wall's normal; a wall crosses a footprint where none of them separates
+    da, db = room.a[None] - centre[:, None], room.b[None] - centre[:, None]  # (N, W, 2)
+
+    def overlaps(u: np.ndarray, h: np.ndarray) -> np.ndarray:  # along a footprint axis
+        pa, pb = (da * u[:, None]).sum(-1), (db * u[:, None]).sum(-1)
+        return ((np.maximum(pa, pb) > -h[:, None] + 1e-9)
+                & (np.minimum(pa, pb) < h[:, None] - 1e-9))
+
+    off = np.abs((da * room.normal[None]).sum(-1))  # the centre from each wall's line
+    reach = hx[:, None] * np.abs(ux @ room.normal.T) + hy[:, None] * np.abs(uy @ room.normal.T)
+    across = off < reach - 1e-9
+    crossed = (overlaps(ux, hx) & overlaps(uy, hy) & across).any(-1)
+    return inside & ~crossed
 
 
 def _outside(ids: list[str], corners: np.ndarray, polys: _Footprints, room,

@@ -9,6 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from forcelayout.geometry import (
+    RoomGeometry,
     box_corners,
     box_gap,
     box_separation,
@@ -135,3 +136,19 @@ def test_box_sides_run_from_corner_to_corner_front_right_back_left(yaw, w, d):
     # in order front, right, back, left (the side a child of this box starts at)
     np.testing.assert_allclose(normals @ front, [1.0, 0.0, -1.0, 0.0], atol=1e-12)
     np.testing.assert_allclose(normals @ right, [0.0, 1.0, 0.0, -1.0], atol=1e-12)
+
+
+def test_contains_boxes_takes_a_box_as_wide_as_the_room_and_no_box_a_wall_crosses():
+    u_room = RoomGeometry(np.array([[0, 0], [6, 0], [6, 4.8], [3.8, 4.8], [3.8, 3.6],
+                                    [2.2, 3.6], [2.2, 4.8], [0, 4.8]], dtype=float))
+
+    def box(x0, y0, x1, y1):
+        return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], dtype=float)
+
+    boxes = np.stack([box(3.8, 3.9, 6.0, 4.79),   # fills the right arm wall to wall
+                      box(0.0, 3.9, 2.2, 4.79),   # and the left one
+                      box(1.0, 3.8, 5.0, 4.5),    # over the notch, every corner on the floor
+                      box(1.0, 1.0, 5.0, 3.0),    # in the middle
+                      box(-0.1, 1.0, 1.0, 2.0)])  # through a wall
+    assert u_room.contains_boxes(boxes).tolist() == [True, True, False, True, False]
+    assert u_room.contains_boxes(boxes[None]).shape == (1, 5)

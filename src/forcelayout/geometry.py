@@ -632,6 +632,46 @@ class RoomGeometry:
         """
         return point_segment_distance(points[..., None, :], self.a, self.b)
 
+    def contains_boxes(self, corners: np.ndarray) -> np.ndarray:
+        """Whether rectangles lie inside the floor polygon, shape (...).
+
+        ``corners`` (..., 4, 2) in order round each rectangle. A rectangle is
+        inside when every corner is and no wall crosses it (a wall corner
+        inside it, or a wall right across it: a bench over the notch of a
+        U-shaped room has every corner on the floor); walls that only touch
+        it do not (within 1e-9 m), as for ``shapely.contains``.
+        """
+        c = np.asarray(corners, dtype=float)
+        centre = c.mean(-2)
+        ax = c[..., 1, :] - c[..., 0, :]
+        ay = c[..., 3, :] - c[..., 0, :]
+        hx = 0.5 * np.linalg.norm(ax, axis=-1)[..., None]  # (..., 1)
+        hy = 0.5 * np.linalg.norm(ay, axis=-1)[..., None]
+        ux = ax / np.maximum(2 * hx, 1e-12)  # unit axes of each rectangle
+        uy = ay / np.maximum(2 * hy, 1e-12)
+        # the corners drawn in by 1e-9 m: a rectangle that touches the walls from inside
+        # (as wide as the room) has them on the floor
+        sx = (c - centre[..., None, :]) @ ux[..., :, None] > 0  # (..., 4, 1)
+        sy = (c - centre[..., None, :]) @ uy[..., :, None] > 0
+        tx = np.maximum(hx - 1e-9, 0.0)[..., None, :] * np.where(sx, 1.0, -1.0)
+        ty = np.maximum(hy - 1e-9, 0.0)[..., None, :] * np.where(sy, 1.0, -1.0)
+        inside = self.contains(centre[..., None, :] + tx * ux[..., None, :]
+                               + ty * uy[..., None, :]).all(-1)
+        # separating axes of a wall segment and a rectangle: the rectangle's two axes and
+        # the wall's normal; a wall crosses a rectangle where none of them separates
+        da = self.a - centre[..., None, :]  # (..., W, 2)
+        db = self.b - centre[..., None, :]
+
+        def overlaps(u: np.ndarray, h: np.ndarray) -> np.ndarray:  # along a rectangle axis
+            pa = (da * u[..., None, :]).sum(-1)
+            pb = (db * u[..., None, :]).sum(-1)
+            return (np.maximum(pa, pb) > -h + 1e-9) & (np.minimum(pa, pb) < h - 1e-9)
+
+        off = np.abs((da * self.normal).sum(-1))  # the centre from each wall's line
+        reach = hx * np.abs(ux @ self.normal.T) + hy * np.abs(uy @ self.normal.T)
+        crossed = (overlaps(ux, hx) & overlaps(uy, hy) & (off < reach - 1e-9)).any(-1)
+        return inside & ~crossed
+
     def contains(self, points: np.ndarray) -> np.ndarray:
         """Whether points lie inside the floor polygon (even-odd rule), shape (...)."""
         p = np.asarray(points, dtype=float)

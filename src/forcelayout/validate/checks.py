@@ -445,40 +445,13 @@ def _collisions(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprint
     return out
 
 
-def _surely_inside(corners: np.ndarray, room) -> np.ndarray:
-    """Footprints (N, 4, 2) certainly inside the floor: every corner inside, and no wall
-    crossing them (a wall vertex inside one, or a wall across it: a bench over the notch
-    of a U-shaped room has every corner on the floor)."""
-    inside = room.contains(corners).all(-1)  # (N,)
-    centre = corners.mean(1)
-    ax = corners[:, 1] - corners[:, 0]
-    ay = corners[:, 3] - corners[:, 0]
-    hx = 0.5 * np.linalg.norm(ax, axis=-1)
-    hy = 0.5 * np.linalg.norm(ay, axis=-1)
-    ux = ax / np.maximum(2 * hx, 1e-12)[:, None]  # unit axes of each footprint
-    uy = ay / np.maximum(2 * hy, 1e-12)[:, None]
-    # separating axes of each wall segment and each footprint: the footprint's two axes
-    # and the wall's normal; a wall crosses a footprint where none of them separates
-    da, db = room.a[None] - centre[:, None], room.b[None] - centre[:, None]  # (N, W, 2)
-
-    def overlaps(u: np.ndarray, h: np.ndarray) -> np.ndarray:  # along a footprint axis
-        pa, pb = (da * u[:, None]).sum(-1), (db * u[:, None]).sum(-1)
-        return ((np.maximum(pa, pb) > -h[:, None] + 1e-9)
-                & (np.minimum(pa, pb) < h[:, None] - 1e-9))
-
-    off = np.abs((da * room.normal[None]).sum(-1))  # the centre from each wall's line
-    reach = hx[:, None] * np.abs(ux @ room.normal.T) + hy[:, None] * np.abs(uy @ room.normal.T)
-    across = off < reach - 1e-9
-    crossed = (overlaps(ux, hx) & overlaps(uy, hy) & across).any(-1)
-    return inside & ~crossed
-
-
 def _outside(ids: list[str], corners: np.ndarray, polys: _Footprints, room,
              max_overlap: float) -> list[list[str]]:
     nb, n = corners.shape[:2]
     if not ids:
         return [[] for _ in range(nb)]
-    sure = _surely_inside(corners.reshape(-1, 4, 2), room).reshape(nb, n)
+    # certainly inside: the exact area is computed only for the others
+    sure = room.contains_boxes(corners)
     out = []
     for b in range(nb):
         cand = np.nonzero(~sure[b])[0]
@@ -594,7 +567,7 @@ def _surfaces(layout: Layout, max_overlap: float) -> list[str]:
         surf = p.surface
         if surf == "ceiling":
             c = layout.corners(oid)
-            if _surely_inside(c[None], room)[0]:
+            if room.contains_boxes(c):
                 continue
             a = shapely.area(shapely.difference(shapely.Polygon(c), room.shape))
             if a > max_overlap:

@@ -13,8 +13,9 @@ the wrong wall. A plugin rule gets the same help by declaring a hint.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import shapely
@@ -201,33 +202,44 @@ def _yaw_facing(direction: np.ndarray) -> np.ndarray:
     return np.arctan2(-direction[:, 0], direction[:, 1])
 
 
+def _each(rngs: Sequence[np.random.Generator], draw: Callable[[np.random.Generator], Any]
+          ) -> np.ndarray:
+    """One draw from each sample's generator, stacked: shape (B, ...)."""
+    return np.stack([draw(g) for g in rngs])
+
+
 def _snap_to_wall(
     room, cand: np.ndarray, half: np.ndarray, walls: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Put candidates' backs against a wall (the nearest, or ``walls``), fronts inward."""
+    """Put candidates (..., 2) backs against a wall (the nearest, or ``walls``, (...)),
+    fronts inward."""
+    shape = cand.shape[:-1]
+    cand = cand.reshape(-1, 2)
     if walls is None:
         s = cand @ room.normal.T - room.normal_offset
         t = cand @ room.tangent.T - room.tangent_offset
         beyond = np.maximum(np.maximum(-t, t - room.length), 0.0)
         walls = np.argmin(np.abs(s) + beyond + (room.length < 2 * half[0]) * 100.0, axis=1)
+    else:
+        walls = np.broadcast_to(walls, shape).reshape(-1)
     n, tan, length = room.normal[walls], room.tangent[walls], room.length[walls]
     along = cand[:, 0] * tan[:, 0] + cand[:, 1] * tan[:, 1] - room.tangent_offset[walls]
     lo = np.minimum(half[0] + 0.01, length * 0.5)  # clear of the wall at its end
     along = np.minimum(np.maximum(along, lo), length - lo)
     pos = room.a[walls] + tan * along[:, None] + n * (half[1] + 0.01)
-    return pos, _yaw_facing(n)
+    return pos.reshape(*shape, 2), _yaw_facing(n).reshape(shape)
 
 
 def _wall_candidates(
     room,
-    rng: np.random.Generator,
+    rngs: Sequence[np.random.Generator],
     k: int,
     half: np.ndarray,
     near: np.ndarray | None,
     sides: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """``k`` poses with the back against a random wall (or the wall nearest each of the
-    ``near`` points, (k, 2), if given).
+    """``k`` poses per sample (B, k) with the back against a random wall (or the wall
+    nearest each of the ``near`` points, (B, k, 2), if given).
 
     ``sides`` (metres to keep free on the left and the right, see
     :func:`_side_room`) asks for walls long enough for the object and the
@@ -250,82 +262,96 @@ def _wall_candidates(
     # checks of p (a fifth of the cost on these few walls)
     cdf = np.cumsum(weight / weight.sum())
     cdf /= cdf[-1]
-    walls = cdf.searchsorted(rng.random(k), side="right")
+    walls = cdf.searchsorted(_each(rngs, lambda g: g.random(k)), side="right")
     slack = np.maximum(room.length[walls] - 2 * end, 0.0)
-    along = end + rng.uniform(0.0, 1.0, k) * slack
-    cand = room.a[walls] + room.tangent[walls] * along[:, None]
+    along = end + _each(rngs, lambda g: g.uniform(0.0, 1.0, k)) * slack
+    cand = room.a[walls] + room.tangent[walls] * along[..., None]
     return _snap_to_wall(room, cand, half, walls)
 
 
-def _near_opening(rng: np.random.Generator, k: int, centre: np.ndarray, reach: float
-                  ) -> np.ndarray:
-    """``k`` points near random openings of ``centre`` (M, 2): spread evenly over the disc
-    of radius ``reach`` where the rules say how far the object may be, else close around."""
-    pick = centre[rng.integers(0, len(centre), k)]
+def _near_opening(rngs: Sequence[np.random.Generator], k: int, centre: np.ndarray,
+                  reach: float) -> np.ndarray:
+    """``k`` points per sample (B, k, 2) near random openings of ``centre`` (M, 2): spread
+    evenly over the disc of radius ``reach`` where the rules say how far the object may be,
+    else close around."""
+    pick = centre[_each(rngs, lambda g: g.integers(0, len(centre), k))]
     if reach <= 0:
-        return pick + rng.normal(0.0, 0.6, (k, 2))
-    r = reach * np.sqrt(rng.uniform(0.0, 1.0, k))
-    a = rng.uniform(-np.pi, np.pi, k)
-    return pick + r[:, None] * np.stack([np.cos(a), np.sin(a)], axis=1)
+        return pick + _each(rngs, lambda g: g.normal(0.0, 0.6, (k, 2)))
+    r = reach * np.sqrt(_each(rngs, lambda g: g.uniform(0.0, 1.0, k)))
+    a = _each(rngs, lambda g: g.uniform(-np.pi, np.pi, k))
+    return pick + r[..., None] * np.stack([np.cos(a), np.sin(a)], axis=-1)
 
 
 def _corner_candidates(
-    room, rng: np.random.Generator, k: int, half: np.ndarray
+    room, rngs: Sequence[np.random.Generator], k: int, half: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray] | None:
-    """``k`` poses tucked into random convex corners, backs against one of the walls."""
+    """``k`` poses per sample (B, k) tucked into random convex corners, backs against one
+    of the walls."""
     convex = room.convex_corners[0]
     if convex.size == 0:
         return None
-    v = convex[rng.integers(0, convex.size, k)]
+    v = convex[_each(rngs, lambda g: g.integers(0, convex.size, k))]
+    back_first = _each(rngs, lambda g: g.random(k)) < 0.5
     w1, w2 = (v - 1) % room.n_walls, v  # the two walls meeting at vertex v
-    back_first = rng.random(k) < 0.5
     wb = np.where(back_first, w1, w2)  # wall behind the object
     ws = np.where(back_first, w2, w1)  # wall at its side
-    pos = room.a[v] + room.normal[wb] * (half[1] + 0.01) + room.normal[ws] * (half[0] + 0.01)
-    return pos, _yaw_facing(room.normal[wb])
+    pos = (room.a[v] + room.normal[wb] * (half[1] + 0.01)
+           + room.normal[ws] * (half[0] + 0.01))
+    return pos, _yaw_facing(room.normal[wb].reshape(-1, 2)).reshape(wb.shape)
 
 
-def _back_wall(room, p: np.ndarray, yaw: float, half: np.ndarray) -> int:
-    """The wall an object at pose (p, yaw) stands with its back against, or -1."""
-    f = np.array([-np.sin(yaw), np.cos(yaw)])
-    s = room.normal @ p - room.normal_offset - half[1]
-    t = room.tangent @ p - room.tangent_offset
-    ok = (room.normal @ f > 0.9) & (np.abs(s) < 0.15) & (t > -0.1) & (t < room.length + 0.1)
-    return int(np.flatnonzero(ok)[np.argmin(np.abs(s[ok]))]) if ok.any() else -1
+def _back_walls(room, p: np.ndarray, yaw: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """The wall each object at pose (p (B, 2), yaw (B,), half extents (B, 2)) stands with
+    its back against, or -1, (B,)."""
+    f = np.stack([-np.sin(yaw), np.cos(yaw)], axis=-1)
+    s = p @ room.normal.T - room.normal_offset - half[:, 1:2]  # (B, W)
+    t = p @ room.tangent.T - room.tangent_offset
+    ok = (f @ room.normal.T > 0.9) & (np.abs(s) < 0.15) & (t > -0.1) & (t < room.length + 0.1)
+    return np.where(ok.any(1), np.argmin(np.where(ok, np.abs(s), np.inf), axis=1), -1)
 
 
-def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius, spread):
-    """Poses for object ``r`` around its parent ``q``, laid out as its rules ask."""
+def _child_candidates(room, rngs, k, wants: _Wants, q: np.ndarray, r, pos, yaw, half,
+                      radius, spread) -> tuple[np.ndarray, np.ndarray]:
+    """Poses (B, k) for object ``r`` around its parent ``q`` (a row per sample, (B,)),
+    laid out as its rules ask."""
     places, turns = wants.places, wants.turns
-    fq = np.array([-np.sin(yaw[q]), np.cos(yaw[q])])
-    rq = np.array([np.cos(yaw[q]), np.sin(yaw[q])])
-    side = np.where(rng.random(k) < 0.5, -1.0, 1.0)
+    nb = len(rngs)
+    bi = np.arange(nb)
+    yq, pq, hq = yaw[bi, q], pos[bi, q][:, None, :], half[q]  # (B,), (B, 1, 2), (B, 2)
+    fq = np.stack([-np.sin(yq), np.cos(yq)], axis=-1)[:, None, :]  # (B, 1, 2)
+    rq = np.stack([np.cos(yq), np.sin(yq)], axis=-1)[:, None, :]
+    side = np.where(_each(rngs, lambda g: g.random(k)) < 0.5, -1.0, 1.0)  # (B, k)
     if "right" in places:
         side[:] = 1.0
     elif "left" in places:
         side[:] = -1.0
-    gap = rng.uniform(*_GAP, k)[:, None]
-    same = np.full(k, yaw[q])
+    gap = _each(rngs, lambda g: g.uniform(*_GAP, k))[..., None]  # (B, k, 1)
+    same = np.repeat(yq[:, None], k, axis=1)
     if "beneath" in places:  # centred under the parent, square with it
-        cand = pos[q] + rng.normal(0.0, 0.05, (k, 2))
-        return cand, same
+        return pq + _each(rngs, lambda g: g.normal(0.0, 0.05, (k, 2))), same
     if places & {"front", "back"}:
         sign = -1.0 if "back" in places else 1.0
-        dist = half[q, 1] + half[r, 1] + rng.uniform(0.1, 0.1 + spread, k)
+        dist = hq[:, 1:2] + half[r, 1] + _each(rngs, lambda g: g.uniform(0.1, 0.1 + spread, k))
         # centred, or anywhere along the parent's width (three stools at one island)
-        reach = max(float(half[q, 0] - half[r, 0]), 0.0)
-        lateral = np.where(rng.random(k) < 0.5, rng.normal(0.0, 0.15, k),
-                           rng.uniform(-reach, reach, k))
-        cand = pos[q] + sign * fq * dist[:, None] + rq * lateral[:, None]
-        cyaw = _yaw_facing(pos[q] - cand) if "face_target" in turns else same
-        return cand, cyaw
+        reach = np.maximum(hq[:, 0] - half[r, 0], 0.0)
+
+        def lateral(g: np.random.Generator, m: float) -> np.ndarray:
+            return np.where(g.random(k) < 0.5, g.normal(0.0, 0.15, k), g.uniform(-m, m, k))
+
+        lat = np.stack([lateral(g, float(m)) for g, m in zip(rngs, reach, strict=True)])
+        cand = pq + sign * fq * dist[..., None] + rq * lat[..., None]
+        if "face_target" in turns:
+            return cand, _yaw_facing((pq - cand).reshape(-1, 2)).reshape(nb, k)
+        return cand, same
     if places & _SIDE_PLACES:
-        wall = _back_wall(room, pos[q], yaw[q], half[q]) if "wall" in places else -1
+        wall = (_back_walls(room, pos[bi, q], yq, hq) if "wall" in places
+                else np.full(nb, -1))
         # beside it with the backs level (a nightstand at the head of the bed, a side
         # table at the sofa's arm), not at the middle of its side
-        cand = (pos[q] + rq * (side[:, None] * (half[q, 0] + half[r, 0] + gap))
-                - fq * (half[q, 1] - half[r, 1]))
-        if wall < 0:
+        cand = (pq + rq * (side[..., None] * (hq[:, None, 0:1] + half[r, 0] + gap))
+                - fq * (hq[:, None, 1:2] - half[r, 1]))
+        at = np.flatnonzero(wall >= 0)
+        if len(at) == 0:
             return cand, same
         # half the draws on the parent's wall; the other half against whichever wall is
         # nearest beside the parent's side, towards its back (a nightstand at the side
@@ -333,43 +359,56 @@ def _child_candidates(room, rng, k, wants: _Wants, q, r, pos, yaw, half, radius,
         # past that side, just past the parent's front edge on it (a fridge round the
         # corner from a counter that fills its corner)
         m = k // 2
-        on_wall = _snap_to_wall(room, cand[m:], half[r], np.full(k - m, wall))
-        out = pos[q] + rq * (side[:m, None] * (half[q, 0] + half[r, 1] + gap[:m]))
-        near_side = _snap_to_wall(room, out - fq * rng.uniform(0.0, half[q, 1], (m, 1)), half[r])
-        past = out + fq * (half[q, 1] + half[r, 0] + gap[:m])
+        c, sd, gp = cand[at], side[at], gap[at]
+        pa, fa, ra, ha = pq[at], fq[at], rq[at], hq[at][:, None, :]
+        on_wall = _snap_to_wall(room, c[:, m:], half[r], np.repeat(wall[at, None], k - m, 1))
+        out = pa + ra * (sd[:, :m, None] * (ha[..., 0:1] + half[r, 1] + gp[:, :m]))
+        back = np.stack([rngs[b].uniform(0.0, half[q[b], 1], (m, 1)) for b in at])
+        near_side = _snap_to_wall(room, out - fa * back, half[r])
+        past = out + fa * (ha[..., 1:2] + half[r, 0] + gp[:, :m])
         round_corner = _snap_to_wall(room, past, half[r])
         moved = round_corner[0] - past  # onto a wall across that side, facing the parent
-        facing = _yaw_facing(-side[:m, None] * rq[None])
+        facing = _yaw_facing((-sd[:, :m, None] * ra).reshape(-1, 2)).reshape(len(at), m)
         use = ((np.arange(m) % 2 == 1) & (np.abs(np.sin(round_corner[1] - facing)) < 0.1)
                & (np.cos(round_corner[1] - facing) > 0)
-               & (np.hypot(*moved.T) <= 2.0 * half[r, 1] + _BESIDE + _GAP[1]))
+               & (np.hypot(moved[..., 0], moved[..., 1]) <= 2.0 * half[r, 1] + _BESIDE
+                  + _GAP[1]))
         # round the corner last: the first of equally good candidates is taken, and a
         # child at its parent's side is the usual arrangement (two beds share a nightstand)
-        return (np.concatenate([near_side[0][~use], on_wall[0], round_corner[0][use]]),
-                np.concatenate([near_side[1][~use], on_wall[1], round_corner[1][use]]))
+        keep = np.concatenate([~use, np.ones((len(at), k - m), dtype=bool), use], axis=1)
+        order = np.argsort(~keep, axis=1, kind="stable")[:, :k]
+        every = np.concatenate([near_side[0], on_wall[0], round_corner[0]], axis=1)
+        turned = np.concatenate([near_side[1], on_wall[1], round_corner[1]], axis=1)
+        cyaw = same.copy()
+        cand[at] = np.take_along_axis(every, order[..., None], axis=1)
+        cyaw[at] = np.take_along_axis(turned, order, axis=1)
+        return cand, cyaw
     if "all_round" in places:  # at a side of the parent (by its length), square to it
-        normals, axes, lengths, depths = geo.box_sides(rq, fq, half[q])
-        cdf = np.cumsum(lengths / lengths.sum())
-        s = np.minimum(cdf.searchsorted(rng.random(k), side="right"), 3)
-        reach = np.maximum(lengths[s] - half[r, 0], 0.0)
-        cand = (pos[q] + normals[s] * (depths[s] + half[r, 1] + gap[:, 0])[:, None]
-                + axes[s] * (rng.uniform(-1.0, 1.0, k) * reach)[:, None])
-        return cand, _yaw_facing(-normals[s])
+        out_c, out_y = np.empty((nb, k, 2)), np.empty((nb, k))
+        for b in range(nb):  # the sides of each sample's parent
+            normals, axes, lengths, depths = geo.box_sides(rq[b, 0], fq[b, 0], hq[b])
+            cdf = np.cumsum(lengths / lengths.sum())
+            s = np.minimum(cdf.searchsorted(rngs[b].random(k), side="right"), 3)
+            reach = np.maximum(lengths[s] - half[r, 0], 0.0)
+            out_c[b] = (pq[b] + normals[s] * (depths[s] + half[r, 1] + gap[b, :, 0])[:, None]
+                        + axes[s] * (rngs[b].uniform(-1.0, 1.0, k) * reach)[:, None])
+            out_y[b] = _yaw_facing(-normals[s])
+        return out_c, out_y
     if "wall" in places and "face_target" in turns:  # across the room, on the wall it faces
         span = float(np.hypot(*(room.bounds[2:] - room.bounds[:2])))
-        cand = pos[q] + fq * rng.uniform(1.0, span, (k, 1)) + rq * rng.normal(0.0, 0.3, (k, 1))
-        cand, cyaw = _snap_to_wall(room, cand, half[r])
-        return cand, cyaw
-    ang = rng.uniform(-np.pi, np.pi, k)
-    dist = radius[q] * 0.8 + radius[r] + rng.uniform(0.0, spread, k)
-    cand = pos[q] + dist[:, None] * np.stack([np.cos(ang), np.sin(ang)], axis=1)
+        cand = (pq + fq * _each(rngs, lambda g: g.uniform(1.0, span, (k, 1)))
+                + rq * _each(rngs, lambda g: g.normal(0.0, 0.3, (k, 1))))
+        return _snap_to_wall(room, cand, half[r])
+    ang = _each(rngs, lambda g: g.uniform(-np.pi, np.pi, k))
+    dist = radius[q][:, None] * 0.8 + radius[r] + _each(rngs, lambda g: g.uniform(0.0, spread, k))
+    cand = pq + dist[..., None] * np.stack([np.cos(ang), np.sin(ang)], axis=-1)
     if "wall" in places:
         return _snap_to_wall(room, cand, half[r])
     if "face_target" in turns:
-        return cand, _yaw_facing(pos[q] - cand)
+        return cand, _yaw_facing((pq - cand).reshape(-1, 2)).reshape(nb, k)
     if "target_heading" in turns:
         return cand, same
-    return cand, rng.uniform(-np.pi, np.pi, k)
+    return cand, _each(rngs, lambda g: g.uniform(-np.pi, np.pi, k))
 
 
 def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r) -> np.ndarray:
@@ -935,61 +974,72 @@ class _Placer:
         # no candidate inside the floor: the centroid, and let the walls push
         pos[~ok, r] = self.room.centroid
 
-    def _draw(self, r: int, placed: list[int], pos: np.ndarray, yaw: np.ndarray,
-              rng: np.random.Generator, tries: int, spread: float
+    def _draw(self, r: int, placed: Sequence[Sequence[int]], pos: np.ndarray, yaw: np.ndarray,
+              rngs: list[np.random.Generator], tries: int, spread: float
               ) -> tuple[np.ndarray, np.ndarray, int]:
-        """One sample's draw of candidate poses for row ``r``: positions (K, 2), headings (K,)
-        and how many of the first were drawn with no wall kept free beside them."""
+        """Each sample's draw of candidate poses for row ``r`` (sample ``b`` from
+        ``rngs[b]``, around its own objects): positions (B, K, 2), headings (B, K) and how
+        many of the first were drawn with no wall kept free beside them."""
         room, half, w = self.room, self.half, self.wants[r]
         places = w.places
+        nb = len(rngs)
         q = int(self.parent[r])
         sides = self.sides[r]  # wall to keep free on the left and the right, metres
-        cyaw = rng.integers(0, 4, tries) * (0.5 * np.pi)  # square with the room, as settled
-        corner = _corner_candidates(room, rng, tries, half[r]) if "corner" in places else None
+        # square with the room, as settled
+        cyaw = _each(rngs, lambda g: g.integers(0, 4, tries)) * (0.5 * np.pi)
+        corner = _corner_candidates(room, rngs, tries, half[r]) if "corner" in places else None
         loose = 0  # the first candidates, drawn with no wall kept free beside them
         opening = (room.windows if "window" in places and len(room.windows) else
                    room.doors if "door" in places and len(room.doors) else None)
         if corner is not None:
             cand, cyaw = corner
         elif q >= 0:
-            cand, cyaw = _child_candidates(room, rng, tries, w, q, r, pos, yaw, half,
-                                           self.radius, spread)
+            cand, cyaw = _child_candidates(room, rngs, tries, w, np.full(nb, q), r, pos, yaw,
+                                           half, self.radius, spread)
         elif "wall" in places:
-            near = None if opening is None else _near_opening(rng, tries, opening.centre,
+            near = None if opening is None else _near_opening(rngs, tries, opening.centre,
                                                               w.reach)
-            cand, cyaw = _wall_candidates(room, rng, tries, half[r], near, sides)
+            cand, cyaw = _wall_candidates(room, rngs, tries, half[r], near, sides)
             if self.either[r] and near is None:
                 # half the draws anywhere along a wall: the children that may stand on
                 # either side may also stand at another wall beside it (a bed near a corner)
                 loose = tries // 2
-                cand[:loose], cyaw[:loose] = _wall_candidates(room, rng, loose, half[r], None)
+                cand[:, :loose], cyaw[:, :loose] = _wall_candidates(room, rngs, loose,
+                                                                    half[r], None)
         elif opening is not None:
-            cand = _near_opening(rng, tries, opening.centre, w.reach)
+            cand = _near_opening(rngs, tries, opening.centre, w.reach)
         elif "middle" in places:
             if w.reach > 0:  # evenly over the share of the room's extent its rules allow
                 ext = w.reach * (room.bounds[2:] - room.bounds[:2])
-                cand = room.centroid + rng.uniform(-ext, ext, (tries, 2))
+                cand = room.centroid + _each(rngs, lambda g: g.uniform(-ext, ext, (tries, 2)))
             else:
-                cand = room.centroid + rng.normal(0.0, 0.3, (tries, 2))
+                cand = room.centroid + _each(rngs, lambda g: g.normal(0.0, 0.3, (tries, 2)))
         else:
-            cand = rng.uniform(self.lo, self.hi, (tries, 2))
+            cand = _each(rngs, lambda g: g.uniform(self.lo, self.hi, (tries, 2)))
         # beside the placed objects it should stand beside other than its parent
-        # (the second bed beside the nightstand that already stands by the first)
-        for p in self._side_partners(r, q, placed)[:2]:
+        # (the second bed beside the nightstand that already stands by the first); as
+        # many for every sample (``place`` sees to it), which ones its own
+        partners = [self._side_partners(r, q, list(pl))[:2] for pl in placed]
+        for k in range(len(partners[0])):
             wp = _Wants(places={"beside"} | (places & {"wall"}), turns=w.turns)
-            more, more_yaw = _child_candidates(room, rng, tries // 2, wp, p, r, pos, yaw, half,
-                                               self.radius, spread)
-            cand = np.concatenate([cand, more])
-            cyaw = np.concatenate([cyaw, more_yaw])
+            more, more_yaw = _child_candidates(room, rngs, tries // 2, wp,
+                                               np.array([p[k] for p in partners]), r, pos,
+                                               yaw, half, self.radius, spread)
+            cand = np.concatenate([cand, more], axis=1)
+            cyaw = np.concatenate([cyaw, more_yaw], axis=1)
         # fall-backs after the proposals: anywhere at a wall for objects that
         # belong at one, anywhere in the room for the rest
         extra = tries // 2
         if "wall" in places:
-            more, more_yaw = _wall_candidates(room, rng, extra, half[r], None)
+            more, more_yaw = _wall_candidates(room, rngs, extra, half[r], None)
         else:
-            more = rng.uniform(self.lo, self.hi, (extra, 2))
-            more_yaw = rng.uniform(-np.pi, np.pi, extra)
-        return np.concatenate([cand, more]), np.concatenate([cyaw, more_yaw]), loose
+            more, more_yaw = [], []
+            for g in rngs:
+                more.append(g.uniform(self.lo, self.hi, (extra, 2)))
+                more_yaw.append(g.uniform(-np.pi, np.pi, extra))
+            more, more_yaw = np.stack(more), np.stack(more_yaw)
+        return (np.concatenate([cand, more], axis=1), np.concatenate([cyaw, more_yaw], axis=1),
+                loose)
 
     def _best(self, r: int, placed: Sequence[Sequence[int]], pos: np.ndarray, yaw: np.ndarray,
               rngs: list[np.random.Generator], tries: int, spread: float
@@ -999,11 +1049,7 @@ class _Placer:
         model, half, walkable, window = self.model, self.half, self.walkable, self.window
         w = self.wants[r]
         sides = self.sides[r]
-        drawn = [self._draw(r, list(placed[b]), pos[b], yaw[b], rng, tries, spread)
-                 for b, rng in enumerate(rngs)]
-        cand = np.stack([d[0] for d in drawn])  # (B, K, 2)
-        cyaw = np.stack([d[1] for d in drawn])  # (B, K)
-        loose = drawn[0][2]  # the same for every sample: it follows from the rules
+        cand, cyaw, loose = self._draw(r, placed, pos, yaw, rngs, tries, spread)
         c, s = np.cos(cyaw), np.sin(cyaw)
         rgt = np.stack([c, s], axis=2)
         fwd = np.stack([-s, c], axis=2)

@@ -364,25 +364,28 @@ def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarr
     r2 = np.float32(agent_radius) ** 2
     n_floor = max(rg.n_floor, 1)
     prim = [k for k, oid in enumerate(ids) if plan.object(oid).primary]
+    # the footprint distances needed: the obstacles' (first), then walkable primary objects'
+    rows = np.concatenate([solid, [k for k in prim if walk[k]]]).astype(int)
+    ns = len(solid)
     out = []
-    chunk = max(1, _DIST_BYTES // max(4 * n * rg.floor.size, 1))
+    chunk = max(1, _DIST_BYTES // max(4 * len(rows) * rg.floor.size, 1))
     for c0 in range(0, nb, chunk):  # footprint distances of a few floors at a time
-        bs = range(c0, min(nb, c0 + chunk))
-        if n:
-            dist2 = _footprint_dist2(rg.xs, rg.ys, (pos[bs[0]:bs[-1] + 1] - rg.origin)
-                                     .reshape(-1, 2), yaw[bs[0]:bs[-1] + 1].reshape(-1),
-                                     halves[bs[0]:bs[-1] + 1].reshape(-1, 2))
-            dist2 = dist2.reshape(len(bs), n, *rg.shape)
+        bs = slice(c0, min(nb, c0 + chunk))
+        if len(rows):
+            dist2 = _footprint_dist2(rg.xs, rg.ys, (pos[bs][:, rows] - rg.origin).reshape(-1, 2),
+                                     yaw[bs][:, rows].reshape(-1),
+                                     halves[bs][:, rows].reshape(-1, 2))
+            dist2 = dist2.reshape(-1, len(rows), *rg.shape)
         else:
-            dist2 = np.zeros((len(bs), 0, *rg.shape), dtype=np.float32)
-        if len(solid):
-            clear = dist2[:, solid].min(1) > r2  # (b, H, W)
+            dist2 = np.zeros((len(pos[bs]), 0, *rg.shape), dtype=np.float32)
+        if ns:
+            clear = dist2[:, :ns].min(1) > r2  # (b, H, W)
         else:
-            clear = np.ones((len(bs), *rg.shape), dtype=bool)
+            clear = np.ones((len(dist2), *rg.shape), dtype=bool)
         free = rg.wall_free & clear
         # free regions, each floor's numbered on their own (no cell links two floors)
         labels, _ = ndimage.label(free, structure=_IN_PLANE) if prim else (None, 0)
-        for m, b in enumerate(bs):
+        for m, b in enumerate(range(nb)[bs]):
             after: list[str] = []
             free_fraction = float((rg.floor & clear[m]).sum()) / n_floor
             navigable_fraction = float(free[m].sum()) / n_floor
@@ -393,8 +396,8 @@ def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarr
                 after.append(f"navigable: only {shown}% of the floor is free {where} an agent "
                              f"of radius {agent_radius:g} m (need {need}%)")
             unreachable, blocked_by, reach_fail = _reachable(
-                ids, prim, solid, dist2[m], r2, free[m], None if labels is None else labels[m],
-                rg, agent_radius + reach)
+                ids, prim, solid, rows, dist2[m], r2, free[m],
+                None if labels is None else labels[m], rg, agent_radius + reach)
             after += reach_fail
             out.append((before[b], after, free_fraction, navigable_fraction, unreachable,
                         blocked_by, free[m], rg.origin.copy()))
@@ -617,11 +620,12 @@ def _wall_surface(oid: str, p, size: tuple[float, float, float], surf: str, room
     return out
 
 
-def _reachable(ids: list[str], prim: list[int], solid: np.ndarray, dist2: np.ndarray,
-               r2: np.float32, free: np.ndarray, labels: np.ndarray | None, rg, near: float
-               ) -> tuple[list[str], dict[str, list[str]], list[str]]:
+def _reachable(ids: list[str], prim: list[int], solid: np.ndarray, rows: np.ndarray,
+               dist2: np.ndarray, r2: np.float32, free: np.ndarray, labels: np.ndarray | None,
+               rg, near: float) -> tuple[list[str], dict[str, list[str]], list[str]]:
     """Whether the agent gets within ``near`` of each primary object (rows ``prim``) from a
-    door; ``labels`` numbers the free regions of this floor (in a stack of floors, after
+    door; ``dist2`` holds the footprint distances of ``rows`` (the obstacles ``solid``
+    first); ``labels`` numbers the free regions of this floor (in a stack of floors, after
     those of the floors before it: the numbers name regions, in the order a label of this
     floor alone would number them)."""
     if not prim:
@@ -647,7 +651,8 @@ def _reachable(ids: list[str], prim: list[int], solid: np.ndarray, dist2: np.nda
     table = np.zeros((len(door_labels), n + 1), dtype=bool)
     for k, lab in enumerate(door_labels):
         table[k, lab] = True
-    near_cells = dist2[prim] <= np.float32(near) ** 2  # (P, H, W)
+    at = {int(k): i for i, k in enumerate(rows)}
+    near_cells = dist2[[at[k] for k in prim]] <= np.float32(near) ** 2  # (P, H, W)
     # the free regions each primary object can be reached in: (P, n + 1) bool
     row, y, x = np.nonzero(near_cells & free)
     touches = np.zeros((len(prim), n + 1), dtype=bool)
@@ -664,7 +669,7 @@ def _reachable(ids: list[str], prim: list[int], solid: np.ndarray, dist2: np.nda
             continue
         unreachable.append(ids[k])
         if paths is None:
-            blocked = dist2[solid] <= r2  # (S, H, W): cells each obstacle takes from the agent
+            blocked = dist2[:len(solid)] <= r2  # (S, H, W): cells each obstacle takes
             paths = _PathFinder(rg.floor, free, blocked)
         for d in np.nonzero(~ok)[0]:
             who = [ids[solid[s]] for s in paths.blockers(int(d), sources[d], near_cells[row])

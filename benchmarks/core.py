@@ -15,7 +15,7 @@ prints JSON with:
 
 Usage::
 
-    python benchmarks/core.py [--samples 40] [--batch 16] [--plans bedroom living_room]
+    python benchmarks/core.py [--samples 40] [--batch 64] [--plans bedroom living_room]
         [--markdown]
 """
 

@@ -26,7 +26,7 @@ layouts/s over the suite.
 Usage::
 
     python benchmarks/floor.py [--plans living_room plans/] [--samples 30]
-        [--baseline-tries 2000] [--batch 16] [--jobs 2] [--quick] [--markdown]
+        [--baseline-tries 2000] [--batch 64] [--jobs 2] [--quick] [--markdown]
         [--out floor.json]
 """
 

@@ -30,7 +30,7 @@ is *clearly below* when a whole interval lies under 0.95.
 Usage::
 
     python benchmarks/suite.py [--plans bedroom living_room my_plans/ x.json]
-        [--samples 30] [--baseline-tries 2000] [--batch 16] [--jobs 2] [--quick]
+        [--samples 30] [--baseline-tries 2000] [--batch 64] [--jobs 2] [--quick]
         [--markdown] [--out suite.json]
 """
 

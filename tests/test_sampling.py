@@ -300,3 +300,39 @@ def test_a_start_at_rest_settles_in_few_steps():
     })
     steps = [fl.solve(plan, seed).report.steps for seed in range(5)]
     assert all(SETTLE_MIN_STEPS <= s < fl.SolverConfig().min_steps for s in steps), steps
+
+
+class _Recording(ThreadPoolExecutor):
+    """Two workers that note how many samples each submitted batch holds."""
+
+    def __init__(self):
+        super().__init__(max_workers=2)
+        self.batches: list[int] = []
+
+    def submit(self, fn, *args, **kwargs):
+        self.batches.append(len(args[1]))  # _samples(plan, seeds, opts)
+        return super().submit(fn, *args, **kwargs)
+
+
+def test_generate_shares_its_first_samples_out_over_the_workers():
+    with _Recording() as ex:
+        result = fl.generate("bedroom", 8, max_attempts=8, executor=ex)
+    assert ex.batches[:2] == [4, 4] and sum(ex.batches) == 8
+    assert [lay.seed for lay in result] == [lay.seed for lay in fl.generate("bedroom", 8,
+                                                                            max_attempts=8)]
+    with _Recording() as ex:  # no expectation: batches grow from one sample
+        list(fl.sampling.iter_samples("bedroom", stop=7, executor=ex))
+    assert ex.batches == [1, 2, 4]
+
+
+def test_a_process_pool_stops_at_once_with_its_batches_running():
+    import time
+
+    pool = fl.sampling.process_pool(2)
+    futures = [pool.submit(time.sleep, 30) for _ in range(4)]
+    time.sleep(0.5)  # both workers busy
+    t0 = time.monotonic()
+    pool.stop_now()
+    assert time.monotonic() - t0 < 10
+    for f in futures:  # none ran to its end: cancelled, or ended with its worker
+        assert f.cancelled() or f.exception(timeout=5) is not None

@@ -613,7 +613,7 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int, what: _File
 
     samples: Iterator[tuple[int, Layout]] = iter_samples(
         plan, seed, start=start, stop=budget if k < n else start, executor=executor,
-        options=opts)
+        options=opts, expect=n - k)
     try:
         for sample, lay in samples:
             drawn += 1

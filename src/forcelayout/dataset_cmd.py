@@ -36,7 +36,7 @@ from forcelayout.dataset import MANIFEST, DatasetError, build_dataset
 from forcelayout.diagnose import feasibility_warnings_as_lines
 from forcelayout.options import Options
 from forcelayout.plan import Plan
-from forcelayout.sampling import process_pool
+from forcelayout.sampling import process_pool, stop_executor
 
 __all__ = ["add_dataset_parser", "run_dataset"]
 
@@ -186,22 +186,26 @@ def run_dataset(args: argparse.Namespace) -> int:
         from forcelayout.ground_cmd import ground_for_command
 
         sources = [r.plan for r in ground_for_command(plan_sources(sources), args)]
-    with ExitStack() as stack:
-        stack.enter_context(feasibility_warnings_as_lines())
-        executor = _executor(args, stack)
-        try:
-            result = build_dataset(sources, args.n, args.out, seed=args.seed, executor=executor,
-                                   pictures=args.pictures, exports=exports, movable=movable,
-                                   max_attempts=args.max_attempts, overwrite=args.overwrite,
-                                   options=Options(), prompts=prompts,
-                                   progress=not args.quiet, judge=judge, assets=args.assets,
-                                   judge_timeout=args.judge_timeout)
-        except KeyboardInterrupt:
-            if executor is not None:
-                executor.shutdown(wait=False, cancel_futures=True)
-            print(f"interrupted: the finished layouts are in {args.out} (index.jsonl); run the "
-                  "same command again to resume", file=sys.stderr)
-            return 130
+    try:
+        with ExitStack() as stack:
+            stack.enter_context(feasibility_warnings_as_lines())
+            executor = _executor(args, stack)
+            try:
+                result = build_dataset(sources, args.n, args.out, seed=args.seed,
+                                       executor=executor, pictures=args.pictures,
+                                       exports=exports, movable=movable,
+                                       max_attempts=args.max_attempts, overwrite=args.overwrite,
+                                       options=Options(), prompts=prompts,
+                                       progress=not args.quiet, judge=judge,
+                                       assets=args.assets, judge_timeout=args.judge_timeout)
+            except KeyboardInterrupt:
+                if executor is not None:
+                    stop_executor(executor)  # not after the batches running now
+                raise
+    except KeyboardInterrupt:  # also while the workers shut down
+        print(f"interrupted: the finished layouts are in {args.out} (index.jsonl); run the "
+              "same command again to resume", file=sys.stderr)
+        return 130
     resumed = f", {result.resumed} of them from an earlier run" if result.resumed else ""
     print(f"{result.accepted}/{result.wanted} layouts of {len(result.plans)} plan(s) in "
           f"{args.out}{resumed} ({result.seconds:.1f} s)")

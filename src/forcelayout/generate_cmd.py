@@ -32,7 +32,7 @@ from forcelayout.dataset import layout_stem
 from forcelayout.diagnose import FewLayoutsWarning, feasibility_warnings_as_lines
 from forcelayout.layout import Layout
 from forcelayout.plan import Plan
-from forcelayout.sampling import Options, generate, process_pool
+from forcelayout.sampling import Options, generate, process_pool, stop_executor
 from forcelayout.sources import load_plan
 
 __all__ = ["run_generate"]
@@ -97,6 +97,8 @@ def run_generate(args: argparse.Namespace) -> int:
                               max_attempts=args.max_attempts, progress=not args.quiet,
                               on_layout=write, options=opts)
     except KeyboardInterrupt:
+        if executor is not None:
+            stop_executor(executor)
         print(f"interrupted: {len(written)} layouts written to {out}", file=sys.stderr)
         return 130
     finally:

@@ -132,8 +132,9 @@ class Options:
         Samples one process simulates together (the batched engine: the
         rule and physical terms are computed once per step for all of them).
         Layouts do not depend on it, bit for bit; larger batches save time
-        per sample and hold more in memory (a few kB per sample). 1 runs one
-        sample at a time.
+        per sample and hold more in memory (about 1 MB per sample of a
+        22-object plan: 280 MB peak for a process at 64 against 226 MB at
+        16, 134 MB of it the imports). 1 runs one sample at a time.
     """
 
     solver: SolverConfig = field(default_factory=SolverConfig)
@@ -146,7 +147,7 @@ class Options:
     repair: int = 6
     variants: int = 6
     variant_seed: int = 0
-    batch: int = 16
+    batch: int = 64
 
     def __post_init__(self) -> None:
         if isinstance(self.batch, bool) or not isinstance(self.batch, Integral) \

@@ -198,13 +198,13 @@ def _samples(plan: Plan, seeds: list[int], opts: Options) -> list[Layout]:
         return [Layout(plan, {}, seeds[0], report)]
 
 
-def _chunks(indices: Iterator[int], largest: int) -> Iterator[list[int]]:
-    """Consecutive runs of sample indices, 1, 2, 4, ... long up to ``largest``.
+def _chunks(indices: Iterator[int], largest: int, first: int = 1) -> Iterator[list[int]]:
+    """Consecutive runs of sample indices, ``first``, twice that, ... long up to ``largest``.
 
     A run that stops early (``n`` layouts accepted) computes few samples it
     throws away; a long one soon runs full batches.
     """
-    size = 1
+    size = max(1, min(first, largest))
     while True:
         chunk = list(itertools.islice(indices, size))
         if not chunk:
@@ -460,20 +460,58 @@ def _leave_interrupts_to_the_parent() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
+class _Pool(ProcessPoolExecutor):
+    """A process pool that can be stopped at once (see :func:`process_pool`)."""
+
+    def stop_now(self) -> None:
+        """Cancel the samples not started and end the workers now, not after their batch.
+
+        What Ctrl-C asks for: a worker that ignores it would otherwise finish
+        its batch first, and an interrupt that lands while the pool shuts
+        down can leave idle workers waiting for work that never comes.
+        """
+        workers = list((getattr(self, "_processes", None) or {}).values())
+        super().shutdown(wait=False, cancel_futures=True)
+        for w in workers:
+            if w.is_alive():
+                w.terminate()
+        for w in workers:
+            w.join(5)
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        """As ``ProcessPoolExecutor.shutdown``; Ctrl-C while it waits stops the pool now."""
+        try:
+            super().shutdown(wait=wait, cancel_futures=cancel_futures)
+        except KeyboardInterrupt:
+            self.stop_now()
+            raise
+
+
 def process_pool(max_workers: int | None = None) -> ProcessPoolExecutor:
     """A process pool whose workers leave Ctrl-C to the parent process.
 
     Ctrl-C in a terminal interrupts every process of the foreground group;
     the workers of this pool ignore it, so only the parent stops (and can
     keep what is finished and say so) instead of each worker printing a
-    traceback.
+    traceback. Its ``stop_now()`` cancels what has not started and ends the
+    workers at once (the command line calls it on Ctrl-C).
 
     Parameters
     ----------
     max_workers : int, optional
         Processes (default: one per core).
     """
-    return ProcessPoolExecutor(max_workers, initializer=_leave_interrupts_to_the_parent)
+    return _Pool(max_workers, initializer=_leave_interrupts_to_the_parent)
+
+
+def stop_executor(executor: Executor) -> None:
+    """Stop an executor after Ctrl-C: at once for :func:`process_pool`'s, else cancel
+    what has not started and leave the rest to finish."""
+    stop = getattr(executor, "stop_now", None)
+    if callable(stop):
+        stop()
+    else:
+        executor.shutdown(wait=False, cancel_futures=True)
 
 
 def iter_samples(
@@ -485,6 +523,7 @@ def iter_samples(
     executor: Executor | None = None,
     options: Options | None = None,
     ahead: int | None = None,
+    expect: int | None = None,
 ) -> Iterator[tuple[int, Layout]]:
     """Samples ``start, start + 1, ...`` of a run, judged, in index order.
 
@@ -505,8 +544,14 @@ def iter_samples(
         Where samples run; in this process when omitted.
     options : Options, optional
     ahead : int, optional
-        Samples in flight on the executor (default: twice its workers, at least 2;
-        a batch in flight counts its samples).
+        Samples in flight on the executor (default: two of the first batches
+        per worker, at least two samples per worker; a batch in flight counts
+        its samples).
+    expect : int, optional
+        How many samples the caller expects to use (``generate`` passes the
+        layouts it wants): the first batches take that many, shared out over
+        the executor's workers (at most ``options.batch`` each), instead of
+        growing from one sample. What is yielded does not depend on it.
 
     Yields
     ------
@@ -517,7 +562,9 @@ def iter_samples(
     opts = options or Options()
     plan = load_plan(plan)
     indices = itertools.count(start) if stop is None else iter(range(start, stop))
-    chunks = _chunks(indices, opts.batch)
+    workers = executor_workers(executor)
+    first = 1 if not expect or expect < 1 else -(-int(expect) // workers)
+    chunks = _chunks(indices, opts.batch, first)
 
     def seeds(chunk: list[int]) -> list[int]:
         return [sample_seed(seed, k) for k in chunk]
@@ -526,7 +573,8 @@ def iter_samples(
         for chunk in chunks:
             yield from zip(chunk, _samples(plan, seeds(chunk), opts), strict=True)
         return
-    ahead = max(2, 2 * executor_workers(executor)) if ahead is None else max(1, int(ahead))
+    # two batches per worker: one running, one waiting
+    ahead = 2 * workers * min(first, opts.batch) if ahead is None else max(1, int(ahead))
     pending: collections.deque = collections.deque()
     in_flight = 0
     try:
@@ -634,7 +682,7 @@ def generate(
         bar = tqdm(total=n, desc=f"{plan.name}", unit="layout")
     seen = DistinctLayouts(distinct_tol)
     samples = iter_samples(plan, seed, stop=budget if n > 0 else 0, executor=executor,
-                           options=opts)
+                           options=opts, expect=n)
     try:
         for _, lay in samples:
             reports.append(lay.report)

@@ -506,7 +506,7 @@ def generate_validated(
     t0 = time.perf_counter()
     failing_in_a_row = 0
     samples = iter_samples(plan, seed, stop=budget if n > 0 else 0, executor=executor,
-                           options=opts)
+                           options=opts, expect=n)
     try:
         for k, lay in samples:
             report = lay.report

@@ -32,7 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from forcelayout import examples
-from forcelayout.dataset import MANIFEST, DatasetError, build_dataset
+from forcelayout.dataset import INDEX, MANIFEST, DatasetError, build_dataset
 from forcelayout.diagnose import feasibility_warnings_as_lines
 from forcelayout.options import Options
 from forcelayout.plan import Plan
@@ -203,8 +203,12 @@ def run_dataset(args: argparse.Namespace) -> int:
                     stop_executor(executor)  # not after the batches running now
                 raise
     except KeyboardInterrupt:  # also while the workers shut down
-        print(f"interrupted: the finished layouts are in {args.out} (index.jsonl); run the "
-              "same command again to resume", file=sys.stderr)
+        index = Path(args.out) / INDEX
+        done = len(index.read_text(encoding="utf-8").splitlines()) if index.exists() else 0
+        where = (f"{done} finished layouts are in {args.out} ({INDEX})" if done
+                 else "no layout was finished yet")
+        print(f"interrupted: {where}; run the same command again to resume",
+              file=sys.stderr)
         return 130
     resumed = f", {result.resumed} of them from an earlier run" if result.resumed else ""
     print(f"{result.accepted}/{result.wanted} layouts of {len(result.plans)} plan(s) in "

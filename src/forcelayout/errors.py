@@ -52,7 +52,10 @@ class PlanError(InputError, ValueError):
     def __init__(self, problems: list[Problem]):
         self.problems = list(problems)
         n = len(self.problems)
-        head = f"the plan has {n} problem{'s' if n != 1 else ''}:"
+        if n == 1:  # one line
+            super().__init__(f"the plan has 1 problem: {self.problems[0]}")
+            return
+        head = f"the plan has {n} problems:"
         super().__init__("\n".join([head, *(f"  - {p}" for p in self.problems)]))
 
 

@@ -198,13 +198,24 @@ def _samples(plan: Plan, seeds: list[int], opts: Options) -> list[Layout]:
         return [Layout(plan, {}, seeds[0], report)]
 
 
-def _chunks(indices: Iterator[int], largest: int, first: int = 1) -> Iterator[list[int]]:
-    """Consecutive runs of sample indices, ``first``, twice that, ... long up to ``largest``.
+def _chunks(indices: Iterator[int], largest: int, expect: int = 0, parts: int = 1
+            ) -> Iterator[list[int]]:
+    """Consecutive runs of sample indices: the ``expect`` samples a caller expects to use in
+    at least ``parts`` near-equal runs of at most ``largest``; then runs 1, 2, 4, ... long
+    up to ``largest``.
 
     A run that stops early (``n`` layouts accepted) computes few samples it
     throws away; a long one soon runs full batches.
     """
-    size = max(1, min(first, largest))
+    if expect > 0:
+        count = max(parts, -(-expect // largest))
+        base, extra = divmod(expect, count)
+        for k in range(count):
+            chunk = list(itertools.islice(indices, base + (k < extra)))
+            if not chunk:
+                return
+            yield chunk
+    size = 1
     while True:
         chunk = list(itertools.islice(indices, size))
         if not chunk:
@@ -544,14 +555,15 @@ def iter_samples(
         Where samples run; in this process when omitted.
     options : Options, optional
     ahead : int, optional
-        Samples in flight on the executor (default: two of the first batches
-        per worker, at least two samples per worker; a batch in flight counts
-        its samples).
+        Samples in flight on the executor (a batch in flight counts its
+        samples); by default two batches per worker.
     expect : int, optional
         How many samples the caller expects to use (``generate`` passes the
-        layouts it wants): the first batches take that many, shared out over
-        the executor's workers (at most ``options.batch`` each), instead of
-        growing from one sample. What is yielded does not depend on it.
+        layouts it wants): those come in batches of near-equal size, at least
+        one per worker, at most ``options.batch`` each; the samples after
+        them in batches of 1, 2, 4, ... (without ``expect``, from the start),
+        so a run that has what it wants when the expected samples are done
+        leaves few samples running. What is yielded does not depend on it.
 
     Yields
     ------
@@ -563,8 +575,7 @@ def iter_samples(
     plan = load_plan(plan)
     indices = itertools.count(start) if stop is None else iter(range(start, stop))
     workers = executor_workers(executor)
-    first = 1 if not expect or expect < 1 else -(-int(expect) // workers)
-    chunks = _chunks(indices, opts.batch, first)
+    chunks = _chunks(indices, opts.batch, max(0, int(expect or 0)), workers)
 
     def seeds(chunk: list[int]) -> list[int]:
         return [sample_seed(seed, k) for k in chunk]
@@ -573,21 +584,26 @@ def iter_samples(
         for chunk in chunks:
             yield from zip(chunk, _samples(plan, seeds(chunk), opts), strict=True)
         return
-    # two batches per worker: one running, one waiting
-    ahead = 2 * workers * min(first, opts.batch) if ahead is None else max(1, int(ahead))
+    # by default two batches per worker: one running, one waiting
+    most = 2 * workers if ahead is None else None  # batches in flight
+    ahead = None if ahead is None else max(1, int(ahead))  # or samples in flight
     pending: collections.deque = collections.deque()
     in_flight = 0
+
+    def room() -> bool:
+        return len(pending) < most if most is not None else in_flight < ahead
+
     try:
         for chunk in chunks:
             pending.append((chunk, executor.submit(_samples, plan, seeds(chunk), opts)))
             in_flight += len(chunk)
-            if in_flight >= ahead:
+            if not room():
                 break
         while pending:
             chunk, future = pending.popleft()
             layouts = future.result()
             in_flight -= len(chunk)
-            while in_flight < ahead:
+            while room():
                 nxt = next(chunks, None)
                 if nxt is None:
                     break

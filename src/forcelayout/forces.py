@@ -488,7 +488,6 @@ class StackedForces:
         self.size = np.tile(model.size, (self.samples, 1))
         self.ids = model.ids * self.samples
         self.terms = [stack_term(t, self.samples, self.rows) for t in model.terms]
-        self._groups: dict[int, RuleGroup] = {}  # the model's rule groups, stacked (satisfied)
 
     @property
     def n(self) -> int:
@@ -510,19 +509,15 @@ class StackedForces:
         ``met`` of shape (samples,); a rule that is not ``batched`` is judged once per
         sample on that sample's state."""
         n = self.samples
+        # the model's rule groups as stacked for the forces
+        rules = next(t for src, t in zip(self.source, self.terms, strict=True)
+                     if src is self.model.rules)
         out: dict[int, np.ndarray] = {}
-        for g in self.model.groups:
-            if g.rule.batched or n == 1:
-                s = g if n == 1 else self._stacked_group(g)
+        for g, s in zip(self.model.groups, rules.groups, strict=True):
+            if g.rule.batched:
                 ok = np.asarray(g.rule.satisfied(state, s.i, s.j, s.params), dtype=bool)
                 ok = ok.reshape(n, len(g.i))
             else:  # a rule that sees one sample at a time
                 ok = np.stack([g.satisfied(state.sample(b)) for b in range(n)])
             out.update(zip(g.position.tolist(), ok.T, strict=True))
-        return out
-
-    def _stacked_group(self, g: RuleGroup) -> RuleGroup:
-        out = self._groups.get(id(g))
-        if out is None:
-            out = self._groups[id(g)] = g.stack(self.samples, self.rows)
         return out

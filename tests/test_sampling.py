@@ -332,7 +332,13 @@ def test_a_process_pool_stops_at_once_with_its_batches_running():
     futures = [pool.submit(time.sleep, 30) for _ in range(4)]
     time.sleep(0.5)  # both workers busy
     t0 = time.monotonic()
-    pool.stop_now()
+    fl.sampling.stop_executor(pool)  # the pool's stop_now()
     assert time.monotonic() - t0 < 10
     for f in futures:  # none ran to its end: cancelled, or ended with its worker
         assert f.cancelled() or f.exception(timeout=5) is not None
+    with ThreadPoolExecutor(1) as threads:  # any other executor: what has not started
+        running = threads.submit(time.sleep, 0.5)
+        waiting = threads.submit(time.sleep, 0.5)
+        time.sleep(0.1)
+        fl.sampling.stop_executor(threads)
+        assert waiting.cancelled() and not running.cancelled()

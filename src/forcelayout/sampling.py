@@ -49,6 +49,7 @@ __all__ = [
     "iter_samples",
     "executor_workers",
     "process_pool",
+    "stop_executor",
     "plan_feasibility",
     "sample_seed",
 ]

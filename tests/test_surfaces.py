@@ -8,8 +8,11 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import forcelayout as fl
+from forcelayout.bindings import compile_plan
 from forcelayout.errors import PlanError
+from forcelayout.geometry import RoomGeometry, box_corners
 from forcelayout.surfaces import check_surfaces, free_wall_stretches
+from forcelayout.surfaces.walls import hanging_centres, target_walls, wall_pose
 from forcelayout.validate import check_layout
 
 ROOM = {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]], "height": 2.7,
@@ -83,6 +86,64 @@ def test_painting_hangs_on_a_wall_over_the_bed(layouts):
         # back on the wall, front into the room
         back = lay.state(["painting"]).corners[0, :2] @ room.normal[w] - room.normal_offset[w]
         assert np.abs(back).max() < 1e-6
+        # on a wall the bed stands by
+        off = lay.corners("bed") @ room.normal[w] - room.normal_offset[w]
+        assert off.min() <= 0.3 + 1e-6
+
+
+def _above_met(bed: fl.Pose, wall: int, u: float) -> bool:
+    room = RoomGeometry.from_room(fl.load_plan(PLAN).room)
+    poses = {"bed": bed, "painting": wall_pose(room, wall, u, 1.0, 0.04)}
+    plan = copy.deepcopy(PLAN)
+    plan["objects"] = [o for o in plan["objects"] if o["id"] in poses]
+    plan["rules"] = [r for r in plan["rules"] if r["rule"] in ("above", "at_wall")]
+    report = fl.Layout(fl.load_plan(plan), poses).rule_report()
+    return next(r.satisfied for r in report if r.rule == "above")
+
+
+def test_above_needs_the_target_by_the_wall_it_hangs_on():
+    # head against wall 3 (x = 0), the bed's foot towards x = 2; the painting over its head
+    at_wall = fl.Pose(1.0, 1.5, -np.pi / 2, 0.0, "floor")
+    assert _above_met(at_wall, 3, 1.5)
+    # the same bed pulled 0.5 m out into the room: the painting is no longer above it
+    assert not _above_met(fl.Pose(1.5, 1.5, -np.pi / 2, 0.0, "floor"), 3, 1.5)
+    # a bed in the corner of walls 2 and 3: over its end on the side wall counts (the
+    # bed's side stands on that wall), on the far wall 0 it does not
+    corner = fl.Pose(1.0, 2.3, -np.pi / 2, 0.0, "floor")
+    assert _above_met(corner, 2, 4.0 - 0.45)
+    assert not _above_met(corner, 0, 0.45)
+
+
+def test_target_walls_are_the_walls_a_footprint_stands_by():
+    room = RoomGeometry.from_room(fl.load_plan(PLAN).room)
+    half = np.array([0.7, 1.0])
+    # flush in the corner of walls 0 and 3; against wall 0 only; in the middle of the room
+    pos = np.array([[0.71, 1.01], [2.0, 1.01], [2.0, 1.5]])
+    corners = box_corners(pos, np.zeros(3), np.broadcast_to(half, (3, 2)))
+    walls = target_walls(room, corners, 0.3)
+    assert walls[0].tolist() == [3, 0] or walls[0].tolist() == [0, 3]
+    assert walls[1].tolist() == [0, -1]
+    assert walls[2, 1] == -1  # the nearest wall alone, too far from it all the same
+    assert (target_walls(room, corners, np.inf) >= 0).all()
+
+
+def test_hanging_centres_leave_out_openings_the_object_cannot_pass():
+    plan = fl.load_plan(PLAN)
+    above = next(b for b in compile_plan(plan).bindings if b.rule.name == "above")
+    spots = hanging_centres(plan, above, target_top=0.5)
+    # a 0.9 x 0.6 painting from 0.6 m (the bed's top and 0.1 m) fits above the window
+    # (2.1 to 2.7 m) and above the door (to 2.1 m) of this 2.7 m room: every wall whole
+    assert spots[:, 0].tolist() == [0, 1, 2, 3]
+    assert np.allclose(spots[:, 1], 0.45) and np.allclose(spots[:, 2], [3.55, 2.55] * 2)
+    # a 0.8 m tall one passes neither: the door's stretch (0.55 to 1.45 m) and the
+    # window's (1.4 to 2.6 m) are cut out, 0.02 m wider each side
+    tall = copy.deepcopy(PLAN)
+    next(o for o in tall["objects"] if o["id"] == "painting")["size"] = [0.9, 0.04, 0.8]
+    tall = fl.load_plan(tall)
+    above = next(b for b in compile_plan(tall).bindings if b.rule.name == "above")
+    spots = hanging_centres(tall, above, target_top=0.5)
+    assert np.allclose(spots, [[0, 1.47 + 0.45, 3.55], [1, 0.45, 2.55],
+                               [2, 0.45, 1.38 - 0.45], [2, 2.62 + 0.45, 3.55], [3, 0.45, 2.55]])
 
 
 def test_clock_keeps_its_band_and_clears_the_window(layouts):

@@ -25,6 +25,7 @@ from forcelayout.batching import SampleTask, drive
 from forcelayout.clearance import WindowTerm
 from forcelayout.forces import ForceModel, RuleGroup
 from forcelayout.rules.base import ParamArrays, State
+from forcelayout.surfaces.walls import hanging_centres, target_gap, target_walls
 from forcelayout.verdict import FloorVerdict, JudgeRequest
 
 __all__ = ["parents", "initial_poses", "start_poses", "propose_poses", "relocate", "Starts",
@@ -52,7 +53,9 @@ class _Wants:
     places: set[str] = field(default_factory=set)
     turns: set[str] = field(default_factory=set)
     related: set[int] = field(default_factory=set)  # every target row
-    wall_above: float = 0.0  # width of the widest object hanging on the wall above this one
+    # per object hanging on the wall above this one: where its centre can go, (wall, u0, u1)
+    # rows (surfaces.walls.hanging_centres), and how far this one may stand from that wall
+    hanging: list[tuple[np.ndarray, float]] = field(default_factory=list)
     reach: float = 0.0  # how far from its start place its rules let it be (0: unsaid)
 
 
@@ -145,8 +148,9 @@ def _wants(model: ForceModel) -> list[_Wants]:
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
                 and b.target in row:
-            w = out[row[b.target]]
-            w.wall_above = max(w.wall_above, float(model.plan.object(b.object).size[0]))
+            top = float(model.plan.object(b.target).size[2])
+            out[row[b.target]].hanging.append((hanging_centres(model.plan, b, top),
+                                               target_gap(b)))
     return out
 
 
@@ -414,29 +418,26 @@ def _child_candidates(room, rngs, k, wants: _Wants, q: np.ndarray, r, pos, yaw, 
 def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r) -> np.ndarray:
     """Candidates of an object that something hangs on the wall above, with no room for it, (K,).
 
-    The wall object hangs with its centre within this object's extent along
-    the wall (the ``above`` rule); a window or door on that wall leaves room
-    for it only if one side of the opening has a stretch of the wall object's
-    width whose centre still lies within this object's extent (1 where a
-    candidate misses that for some opening, else 0).
+    The wall object hangs on a wall this object stands by, with its centre
+    within the footprint's extent along that wall (the ``above`` rule; the
+    walls :func:`forcelayout.surfaces.walls.place_on_walls` tries,
+    :func:`~forcelayout.surfaces.walls.target_walls`); it has room where a
+    stretch of such a wall clear of doors and windows
+    (:func:`~forcelayout.surfaces.walls.hanging_centres`) meets that extent.
+    1 where a candidate leaves some hanging object no room, else 0.
     """
     unmet = np.zeros(len(cand))
-    if wants.wall_above <= 0:
+    if not wants.hanging:
         return unmet
-    for win in (room.windows, room.doors):
-        if not len(win):
-            continue
-        d = cand[:, None, :] - win.centre[None]
-        along = (d * win.tangent[None]).sum(2)
-        off = np.abs((d * win.normal[None]).sum(2))
-        extent = np.abs((rgt[:, None] * win.tangent[None]).sum(2)) * half_r[0] \
-            + np.abs((fwd[:, None] * win.tangent[None]).sum(2)) * half_r[1]
-        # centres of the wall object clear of the opening: beyond this distance from its centre
-        reach = win.width[None] * 0.5 + 0.05 + 0.5 * wants.wall_above
-        blocked = (along - extent > -reach) & (along + extent < reach)
-        # only an opening in the wall the candidate stands against counts
-        same_wall = (fwd[:, None] * win.normal[None]).sum(2) > 0.9
-        unmet += (blocked & same_wall & (off < half_r.max() + 0.3)).any(1)
+    corners = geo.corners_from_axes(cand, rgt, fwd, np.broadcast_to(half_r, cand.shape))
+    for spots, gap in wants.hanging:
+        walls = target_walls(room, corners, gap)  # (K, 2), -1: not within the gap
+        u = np.einsum("kcd,kwd->kwc", corners, room.tangent[walls]) \
+            - room.tangent_offset[walls][..., None]  # (K, 2, 4)
+        lo, hi = u.min(axis=2)[..., None], u.max(axis=2)[..., None]  # (K, 2, 1)
+        fits = ((walls[..., None] == spots[:, 0]) & (spots[:, 1] <= hi)
+                & (spots[:, 2] >= lo)).any(axis=(1, 2))
+        unmet += ~fits
     return unmet
 
 

@@ -162,10 +162,13 @@ class OnWallMid(OnWall):
 class Above(_SurfaceRule):
     """Hang on a wall above the target (e.g. a painting above the bed).
 
-    Satisfied when the object hangs flat on a wall (as ``on_wall``), its
-    centre lies within the target's extent along that wall, and its bottom
-    is at least ``clearance`` metres above the target's top (and its top at
-    most ``high``, default the ceiling).
+    Satisfied when the object hangs flat on a wall (as ``on_wall``), the
+    target stands by that wall (its footprint at most ``wall_gap`` metres
+    from it: a cabinet on the wall across the corner from a washer that
+    stands a metre out is not above it), the object's centre lies within the
+    target's extent along that wall, and its bottom is at least
+    ``clearance`` metres above the target's top (and its top at most
+    ``high``, default the ceiling).
     """
 
     surface = "wall"
@@ -178,6 +181,8 @@ class Above(_SurfaceRule):
         high: float | None = Field(None, gt=0,
                                    description="Highest top edge, m; None is the ceiling.")
         tolerance: float = Field(0.02, gt=0, description="Largest gap behind the object, m.")
+        wall_gap: float = Field(0.3, ge=0, description="Largest gap between the target's "
+                                "footprint and the wall the object hangs on, m.")
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         room = state.room
@@ -188,6 +193,9 @@ class Above(_SurfaceRule):
         w = np.maximum(wall, 0)
         t = room.tangent[w]
         toff = room.tangent_offset[w]
+        off = np.einsum("bck,bk->bc", state.corners[j], room.normal[w]) \
+            - room.normal_offset[w][:, None]
+        ok &= off.min(axis=1) <= np.asarray(p.wall_gap, dtype=float) + _Z_TOL
         ut = np.einsum("bck,bk->bc", state.corners[j], t) - toff[:, None]
         uc = np.einsum("bk,bk->b", state.pos[i], t) - toff
         ok &= (uc >= ut.min(axis=1) - _Z_TOL) & (uc <= ut.max(axis=1) + _Z_TOL)

@@ -24,7 +24,8 @@ from forcelayout.plan import Plan
 from forcelayout.solver import simulate
 from forcelayout.surfaces.plane import AnchorTerm, SurfacePlacement, plane_solver, rect
 
-__all__ = ["EYE_LEVEL", "wall_pose", "wall_band", "free_wall_stretches", "place_on_walls"]
+__all__ = ["EYE_LEVEL", "wall_pose", "wall_band", "free_wall_stretches", "hanging_centres",
+           "target_walls", "place_on_walls"]
 
 #: Eye level, metres: wall objects settle with their centre near this height.
 EYE_LEVEL = 1.6
@@ -76,6 +77,12 @@ def target_clearance(binding: Binding) -> float:
     return float(getattr(binding.params, "clearance", 0.0))
 
 
+def target_gap(binding: Binding) -> float:
+    """Largest gap (metres) between the target and the wall of a wall binding (its
+    ``wall_gap`` param; any distance where the rule has none)."""
+    return float(getattr(binding.params, "wall_gap", math.inf))
+
+
 def opening_blocks(plan: Plan, wall: int) -> list[Block]:
     """Doors and windows of a wall as ``(u0, u1, v0, v1)`` zones, metres."""
     out = []
@@ -121,12 +128,13 @@ def free_intervals(length: float, blocks: list[Block], v0: float, v1: float,
     return [(a, b) for a, b in out if b - a > 1e-9]
 
 
-def free_wall_stretches(plan: Plan, wall: int, low: float, high: float, height: float
-                        ) -> list[tuple[float, float]]:
+def free_wall_stretches(plan: Plan, wall: int, low: float, high: float, height: float,
+                        margin: float = 0.0) -> list[tuple[float, float]]:
     """Stretches of a wall where an object ``height`` tall fits in the band, ignoring furniture.
 
-    A door or window blocks its stretch unless the object fits above or
-    below it inside ``[low, high]`` metres.
+    A door or window blocks its stretch, widened by ``margin`` metres each
+    side, unless the object fits above or below it inside ``[low, high]``
+    metres.
 
     Returns
     -------
@@ -139,7 +147,31 @@ def free_wall_stretches(plan: Plan, wall: int, low: float, high: float, height: 
         above = high - max(low, v1) >= height
         if not (below or above):
             blocks.append((u0, u1, -1.0, math.inf))
-    return free_intervals(plan.room.wall_length(wall), blocks, 0.0, 1.0, margin=0.0)
+    return free_intervals(plan.room.wall_length(wall), blocks, 0.0, 1.0, margin=margin)
+
+
+def hanging_centres(plan: Plan, binding: Binding, target_top: float) -> np.ndarray:
+    """Where on the walls the object of ``binding`` can hang above a target ``target_top`` tall.
+
+    The stretches along each wall (doors and windows cut out as
+    :func:`place_on_walls` cuts them, furniture ignored) over which the
+    object's centre can lie with the object in its band and clear of the
+    target's top.
+
+    Returns
+    -------
+    ndarray, shape (R, 3)
+        ``(wall, u0, u1)`` rows: the centre may lie anywhere in ``[u0, u1]``
+        metres from ``polygon[wall]``.
+    """
+    w, _, h = plan.object(binding.object).size
+    low, high = wall_band(binding, plan.room.height)
+    low = max(low, target_top + target_clearance(binding))
+    rows = [(wall, a + w / 2, b - w / 2)
+            for wall in range(len(plan.room.polygon))
+            for a, b in free_wall_stretches(plan, wall, low, high, h, margin=_MARGIN)
+            if b - a >= w and high - low >= h]
+    return np.array(rows, dtype=float).reshape(-1, 3)
 
 
 def corners_tops(cp: CompiledPlan, poses: dict[str, Pose], ids: list[str]
@@ -154,10 +186,26 @@ def corners_tops(cp: CompiledPlan, poses: dict[str, Pose], ids: list[str]
     return box_corners(pos, yaw, size[:, :2] * 0.5), tops
 
 
-def _target_walls(room: RoomGeometry, corners: np.ndarray) -> list[int]:
-    """The two walls nearest to a footprint, nearest first."""
-    d, _ = room.wall_distance(corners)  # (4, W)
-    return np.argsort(d.min(axis=0), kind="stable")[:2].tolist()
+def target_walls(room: RoomGeometry, corners: np.ndarray, gap: float) -> np.ndarray:
+    """The walls an object can hang on above footprints: of the two nearest to each
+    footprint, nearest first, those within ``gap`` metres of it (the ``above`` rule's
+    ``wall_gap``), else the nearest alone.
+
+    Parameters
+    ----------
+    corners : ndarray, shape (..., 4, 2)
+    gap : float
+
+    Returns
+    -------
+    ndarray of int, shape (..., 2)
+        Wall indices, ``-1`` where the second is not within ``gap``.
+    """
+    d = room.wall_distance(corners)[0].min(axis=-2)  # (..., W)
+    walls = np.argsort(d, axis=-1, kind="stable")[..., :2]
+    near = np.take_along_axis(d, walls, axis=-1) <= gap + 1e-9
+    near[..., 0] = True
+    return np.where(near, walls, -1)
 
 
 def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Generator,
@@ -187,7 +235,7 @@ def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gene
                 out.missing.append(f"{oid}: its target {b.target!r} was not placed")
                 continue
             tc, tt = corners_tops(cp, poses, [b.target])
-            walls = _target_walls(room, tc[0])
+            walls = [w for w in target_walls(room, tc[0], target_gap(b)).tolist() if w >= 0]
             low = max(low, float(tt[0]) + target_clearance(b))
         else:
             pinned = getattr(b.params, "wall", None)

@@ -178,6 +178,26 @@ def test_a_start_near_a_door_spreads_over_the_distance_the_rule_allows():
     assert np.mean(met) >= 0.9
 
 
+def test_a_start_may_stand_right_beside_a_door_swing():
+    """A 2 m bed along a 3 m room's side wall: towards the door its foot comes within 4 cm
+    of the swing square. Clear of the square is what the door check asks, so starts use
+    that end of the wall too, and none fails the check."""
+    plan = fl.Plan.from_dict({
+        "name": "bed by the door",
+        "room": {"polygon": [[0, 0], [3.0, 0], [3.0, 3.2], [0, 3.2]], "height": 2.6,
+                 "doors": [{"wall": 0, "offset": 0.55, "width": 0.8}]},
+        "objects": [{"id": "bed", "category": "bed", "size": [1.4, 2.0, 0.5]}],
+        "rules": [{"rule": "at_wall", "object": "bed"}]})
+    model = ForceModel(plan)
+    starts = [propose_poses(model, np.random.default_rng(s)) for s in range(80)]
+    pos = np.array([p[0] for p, _ in starts])
+    along_side = np.array([abs(np.cos(y[0])) < 0.1 for _, y in starts])
+    assert (along_side & (pos[:, 1] < 1.5)).sum() >= 5
+    for p, y in starts:
+        lay = fl.Layout(plan, {"bed": fl.Pose(float(p[0, 0]), float(p[0, 1]), float(y[0]))})
+        assert not [f for f in lay.report.failures if f.startswith("door")]
+
+
 def test_a_start_reach_must_name_a_parameter_near_an_opening():
     with pytest.raises(ValueError, match="reach"):  # only near an opening or the middle
         rules.StartHint(place="wall", reach="distance")

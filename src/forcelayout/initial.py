@@ -33,8 +33,9 @@ __all__ = ["parents", "initial_poses", "start_poses", "propose_poses", "relocate
 
 #: Start places beside the parent, where wall length is kept free next to it.
 _SIDE_PLACES = frozenset({"beside", "left", "right"})
-#: Clearance a start pose keeps to other objects and door zones, metres (less a rounding
-#: tolerance: a pose flush against a wall beside a door zone sits right at it).
+#: Clearance a start pose keeps to other objects, metres (less a rounding tolerance: a pose
+#: flush against a wall beside a door zone sits right at it). Of a door's swing square it
+#: keeps clear only, as the door check asks.
 _CLEAR = 0.05 - 1e-6
 #: Rank of a clear candidate that meets every rule it can be judged by, its children's room
 #: included (each miss takes 2 off).
@@ -919,7 +920,9 @@ class _Placer:
             dsep = geo.obb_separation(dc[None, None] - cand[:, :, None], rgt[:, :, None],
                                       fwd[:, :, None], ext[None, None, None], dr[None, None],
                                       df[None, None], dh[None, None])
-            clear = np.minimum(clear, dsep.min(axis=2))
+            # clear of the swing square is what the door check asks; the simulation then
+            # keeps its deeper entry zone free
+            clear = np.minimum(clear, dsep.min(axis=2) + _CLEAR)
         return inside, clear
 
     def _side_partners(self, r: int, parent: int, placed: list[int]) -> list[int]:

@@ -39,7 +39,8 @@ def test_rules_json_says_what_each_rule_declares(capsys):
 
 
 @pytest.mark.parametrize("args, reason", [
-    (["-n", "-1"], "-1 is less than 0"), (["-n", "2.5"], "'2.5' is not a whole number"),
+    (["-n", "-1"], "-1 is less than 1"), (["-n", "0"], "0 is less than 1"),
+    (["-n", "2.5"], "'2.5' is not a whole number"),
     (["--workers", "0"], "0 is less than 1"), (["--workers", "-3"], "-3 is less than 1"),
 ])
 def test_generate_refuses_bad_counts_in_one_line(args, reason, tmp_path):
@@ -89,6 +90,20 @@ def test_generate_writes_json_png_and_summary(tmp_path):
     assert main(["validate", str(out / "plan.json"), *map(str, layouts)]) == 0
     assert main(["render", str(out / "plan.json"), str(layouts[0]), "--format", "svg"]) == 0
     assert layouts[0].with_suffix(".svg").exists()
+
+
+def test_generate_on_workers_has_every_picture_drawn_before_it_returns(tmp_path):
+    """With --workers the workers draw the pictures; each is written by the time the
+    command returns, the same bytes as drawn in one process."""
+    one, two = tmp_path / "one", tmp_path / "two"
+    assert main(["generate", "bedroom", "-n", "3", "--out", str(one), "--quiet",
+                 "--format", "svg"]) == 0
+    assert main(["generate", "bedroom", "-n", "3", "--out", str(two), "--quiet",
+                 "--format", "svg", "--workers", "2"]) == 0
+    files = sorted(p.name for p in one.glob("bedroom_*"))
+    assert len(files) == 6 and files == sorted(p.name for p in two.glob("bedroom_*"))
+    for name in files:
+        assert (one / name).read_bytes() == (two / name).read_bytes(), name
 
 
 def test_bad_plan_gives_a_clear_error(tmp_path, capsys):

@@ -159,7 +159,7 @@ def test_the_command_line_writes_a_dataset_and_resumes(whole, tmp_path, capsys):
 
 
 @pytest.mark.parametrize("args, reason", [
-    (["bedroom", "-n", "-1"], "-1 is less than 0"),
+    (["bedroom", "-n", "-1"], "-1 is less than 1"), (["bedroom", "-n", "0"], "0 is less than 1"),
     (["bedroom", "-n", "2", "--workers", "0"], "0 is less than 1"),
     (["bedroom", "-n", "2", "--workers", "2", "--scheduler", "tcp://x:1"], "not allowed with"),
     (["no_such_plan.json", "-n", "2"], "no plan file 'no_such_plan.json'"),

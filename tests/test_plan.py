@@ -244,3 +244,11 @@ def test_a_rule_binding_is_labelled_as_reports_name_it():
     assert RuleSpec(rule="at_wall", object="bed").label == "at_wall(bed)"
     layout = __import__("forcelayout").generate("bedroom", 1, seed=0)[0]
     assert all(r.label == layout.plan.rules[r.index].label for r in layout.rule_report())
+
+
+@pytest.mark.parametrize("size", [[1.4, 2.0], [1.4, 2.0, 0.5, 1.0], "1.4 x 2.0"])
+def test_a_size_of_the_wrong_shape_says_what_a_size_is(size):
+    data = with_object({"id": "bed2", "category": "bed", "size": size})
+    k = len(data["objects"]) - 1
+    with pytest.raises(PlanError, match=rf"objects\[{k}\]\.size.*\[width, depth, height\]"):
+        Plan.from_dict(data)

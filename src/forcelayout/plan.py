@@ -385,7 +385,10 @@ def _plan_error(e: ValidationError) -> PlanError:
             msg = "unknown field; remove it or check its spelling"
         elif err["type"] == "missing":
             msg = "required field is missing"
-        problems.append(Problem(_fmt_loc(err["loc"]), msg))
+        loc = err["loc"]
+        if loc[:1] == ("objects",) and "size" in loc[2:]:  # a size of the wrong length or kind
+            msg += "; size is [width, depth, height] in metres"
+        problems.append(Problem(_fmt_loc(loc), msg))
     return PlanError(problems)
 
 

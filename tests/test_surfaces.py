@@ -12,7 +12,7 @@ from forcelayout.bindings import compile_plan
 from forcelayout.errors import PlanError
 from forcelayout.geometry import RoomGeometry, box_corners
 from forcelayout.surfaces import check_surfaces, free_wall_stretches
-from forcelayout.surfaces.walls import hanging_centres, target_walls, wall_pose
+from forcelayout.surfaces.walls import back_wall, hanging_centres, wall_pose
 from forcelayout.validate import check_layout
 
 ROOM = {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]], "height": 2.7,
@@ -107,24 +107,28 @@ def test_above_needs_the_target_by_the_wall_it_hangs_on():
     assert _above_met(at_wall, 3, 1.5)
     # the same bed pulled 0.5 m out into the room: the painting is no longer above it
     assert not _above_met(fl.Pose(1.5, 1.5, -np.pi / 2, 0.0, "floor"), 3, 1.5)
-    # a bed in the corner of walls 2 and 3: over its end on the side wall counts (the
-    # bed's side stands on that wall), on the far wall 0 it does not
+    # a bed in the corner of walls 2 and 3, head against wall 3: over its head on wall 3
+    # counts; on side wall 2, over the bed's side end (half over the floor), it does not
     corner = fl.Pose(1.0, 2.3, -np.pi / 2, 0.0, "floor")
-    assert _above_met(corner, 2, 4.0 - 0.45)
+    assert _above_met(corner, 3, 0.7)
+    assert not _above_met(corner, 2, 4.0 - 0.45)
     assert not _above_met(corner, 0, 0.45)
 
 
-def test_target_walls_are_the_walls_a_footprint_stands_by():
+def test_back_wall_is_the_wall_a_footprint_stands_with_its_back_to():
     room = RoomGeometry.from_room(fl.load_plan(PLAN).room)
     half = np.array([0.7, 1.0])
-    # flush in the corner of walls 0 and 3; against wall 0 only; in the middle of the room
-    pos = np.array([[0.71, 1.01], [2.0, 1.01], [2.0, 1.5]])
-    corners = box_corners(pos, np.zeros(3), np.broadcast_to(half, (3, 2)))
-    walls = target_walls(room, corners, 0.3)
-    assert walls[0].tolist() == [3, 0] or walls[0].tolist() == [0, 3]
-    assert walls[1].tolist() == [0, -1]
-    assert walls[2, 1] == -1  # the nearest wall alone, too far from it all the same
-    assert (target_walls(room, corners, np.inf) >= 0).all()
+    # flush in the corner of walls 0 and 3 facing +y; against wall 0 facing +y; the same
+    # turned to face +x (its side to wall 0, its back to nothing within 0.3 m); mid-room
+    pos = np.array([[0.71, 1.01], [2.0, 1.01], [2.0, 0.71], [2.0, 1.5]])
+    yaw = np.array([0.0, 0.0, -np.pi / 2, 0.0])
+    corners = box_corners(pos, yaw, np.broadcast_to(half, (4, 2)))
+    front = np.stack([-np.sin(yaw), np.cos(yaw)], axis=1)
+    wall, behind = back_wall(room, corners, front, 0.3, 45.0)
+    assert wall[:3].tolist() == [0, 0, 0] and behind.tolist() == [True, True, False, False]
+    # any turn: the nearest wall within the gap, the side wall of the corner too
+    wall, behind = back_wall(room, corners, front, 0.3)
+    assert behind[:3].all() and not behind[3]
 
 
 def test_hanging_centres_leave_out_openings_the_object_cannot_pass():

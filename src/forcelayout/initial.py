@@ -25,7 +25,7 @@ from forcelayout.batching import SampleTask, drive
 from forcelayout.clearance import WindowTerm
 from forcelayout.forces import ForceModel, RuleGroup
 from forcelayout.rules.base import ParamArrays, State
-from forcelayout.surfaces.walls import hanging_centres, target_gap, target_walls
+from forcelayout.surfaces.walls import back_wall, hanging_centres, target_gap
 from forcelayout.verdict import FloorVerdict, JudgeRequest
 
 __all__ = ["parents", "initial_poses", "start_poses", "propose_poses", "relocate", "Starts",
@@ -55,8 +55,9 @@ class _Wants:
     turns: set[str] = field(default_factory=set)
     related: set[int] = field(default_factory=set)  # every target row
     # per object hanging on the wall above this one: where its centre can go, (wall, u0, u1)
-    # rows (surfaces.walls.hanging_centres), and how far this one may stand from that wall
-    hanging: list[tuple[np.ndarray, float]] = field(default_factory=list)
+    # rows (surfaces.walls.hanging_centres), and how far and how turned this one may stand
+    # from that wall (surfaces.walls.target_gap)
+    hanging: list[tuple[np.ndarray, tuple[float, float]]] = field(default_factory=list)
     reach: float = 0.0  # how far from its start place its rules let it be (0: unsaid)
 
 
@@ -419,11 +420,11 @@ def _child_candidates(room, rngs, k, wants: _Wants, q: np.ndarray, r, pos, yaw, 
 def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r) -> np.ndarray:
     """Candidates of an object that something hangs on the wall above, with no room for it, (K,).
 
-    The wall object hangs on a wall this object stands by, with its centre
-    within the footprint's extent along that wall (the ``above`` rule; the
-    walls :func:`forcelayout.surfaces.walls.place_on_walls` tries,
-    :func:`~forcelayout.surfaces.walls.target_walls`); it has room where a
-    stretch of such a wall clear of doors and windows
+    The wall object hangs on the wall behind this object (the ``above`` rule;
+    :func:`~forcelayout.surfaces.walls.back_wall`, as
+    :func:`forcelayout.surfaces.walls.place_on_walls` chooses it) with its
+    centre within the footprint's extent along that wall; it has room where
+    a stretch of that wall clear of doors and windows
     (:func:`~forcelayout.surfaces.walls.hanging_centres`) meets that extent.
     1 where a candidate leaves some hanging object no room, else 0.
     """
@@ -431,14 +432,14 @@ def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r) -> np.ndarray:
     if not wants.hanging:
         return unmet
     corners = geo.corners_from_axes(cand, rgt, fwd, np.broadcast_to(half_r, cand.shape))
-    for spots, gap in wants.hanging:
-        walls = target_walls(room, corners, gap)  # (K, 2), -1: not within the gap
-        u = np.einsum("kcd,kwd->kwc", corners, room.tangent[walls]) \
-            - room.tangent_offset[walls][..., None]  # (K, 2, 4)
-        lo, hi = u.min(axis=2)[..., None], u.max(axis=2)[..., None]  # (K, 2, 1)
-        fits = ((walls[..., None] == spots[:, 0]) & (spots[:, 1] <= hi)
-                & (spots[:, 2] >= lo)).any(axis=(1, 2))
-        unmet += ~fits
+    for spots, (gap, turn) in wants.hanging:
+        wall, behind = back_wall(room, corners, fwd, gap, turn)  # (K,)
+        u = np.einsum("kcd,kd->kc", corners, room.tangent[wall]) \
+            - room.tangent_offset[wall][:, None]  # (K, 4)
+        lo, hi = u.min(axis=1)[:, None], u.max(axis=1)[:, None]
+        fits = ((wall[:, None] == spots[:, 0]) & (spots[:, 1] <= hi)
+                & (spots[:, 2] >= lo)).any(axis=1)
+        unmet += ~(fits & behind)
     return unmet
 
 

@@ -25,7 +25,7 @@ from forcelayout.solver import simulate
 from forcelayout.surfaces.plane import AnchorTerm, SurfacePlacement, plane_solver, rect
 
 __all__ = ["EYE_LEVEL", "wall_pose", "wall_band", "free_wall_stretches", "hanging_centres",
-           "target_walls", "place_on_walls"]
+           "back_wall", "place_on_walls"]
 
 #: Eye level, metres: wall objects settle with their centre near this height.
 EYE_LEVEL = 1.6
@@ -77,10 +77,12 @@ def target_clearance(binding: Binding) -> float:
     return float(getattr(binding.params, "clearance", 0.0))
 
 
-def target_gap(binding: Binding) -> float:
-    """Largest gap (metres) between the target and the wall of a wall binding (its
-    ``wall_gap`` param; any distance where the rule has none)."""
-    return float(getattr(binding.params, "wall_gap", math.inf))
+def target_gap(binding: Binding) -> tuple[float, float]:
+    """Largest gap (metres) between the target and the wall of a wall binding, and largest
+    turn (degrees) of the target's front from the wall's inward normal (the rule's
+    ``wall_gap`` param and ``max_turn``; any where the rule has none)."""
+    return (float(getattr(binding.params, "wall_gap", math.inf)),
+            float(getattr(binding.rule, "max_turn", 180.0)))
 
 
 def opening_blocks(plan: Plan, wall: int) -> list[Block]:
@@ -186,26 +188,33 @@ def corners_tops(cp: CompiledPlan, poses: dict[str, Pose], ids: list[str]
     return box_corners(pos, yaw, size[:, :2] * 0.5), tops
 
 
-def target_walls(room: RoomGeometry, corners: np.ndarray, gap: float) -> np.ndarray:
-    """The walls an object can hang on above footprints: of the two nearest to each
-    footprint, nearest first, those within ``gap`` metres of it (the ``above`` rule's
-    ``wall_gap``), else the nearest alone.
+def back_wall(room: RoomGeometry, corners: np.ndarray, front: np.ndarray, gap: float,
+              turn: float = 180.0) -> tuple[np.ndarray, np.ndarray]:
+    """The wall an object hangs on above each footprint: the wall behind it.
+
+    Of the walls the footprint's front faces away from (within ``turn``
+    degrees of the wall's inward normal), the nearest one within ``gap``
+    metres of it (the ``above`` rule's ``wall_gap`` and ``max_turn``); where
+    there is none, the nearest wall.
 
     Parameters
     ----------
     corners : ndarray, shape (..., 4, 2)
-    gap : float
+    front : ndarray, shape (..., 2)
+        Unit front directions of the footprints.
+    gap, turn : float
 
     Returns
     -------
-    ndarray of int, shape (..., 2)
-        Wall indices, ``-1`` where the second is not within ``gap``.
+    wall : ndarray of int, shape (...)
+    behind : ndarray of bool, shape (...)
+        Whether ``wall`` is behind the footprint within ``gap`` (the rule can be met).
     """
     d = room.wall_distance(corners)[0].min(axis=-2)  # (..., W)
-    walls = np.argsort(d, axis=-1, kind="stable")[..., :2]
-    near = np.take_along_axis(d, walls, axis=-1) <= gap + 1e-9
-    near[..., 0] = True
-    return np.where(near, walls, -1)
+    ok = (front @ room.normal.T >= np.cos(np.radians(turn)) - 1e-9) & (d <= gap + 1e-9)
+    behind = ok.any(axis=-1)
+    wall = np.where(behind, np.argmin(np.where(ok, d, np.inf), axis=-1), np.argmin(d, axis=-1))
+    return wall, behind
 
 
 def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Generator,
@@ -235,7 +244,8 @@ def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gene
                 out.missing.append(f"{oid}: its target {b.target!r} was not placed")
                 continue
             tc, tt = corners_tops(cp, poses, [b.target])
-            walls = [w for w in target_walls(room, tc[0], target_gap(b)).tolist() if w >= 0]
+            front = np.array([-np.sin(poses[b.target].yaw), np.cos(poses[b.target].yaw)])
+            walls = [int(back_wall(room, tc[0], front, *target_gap(b))[0])]
             low = max(low, float(tt[0]) + target_clearance(b))
         else:
             pinned = getattr(b.params, "wall", None)

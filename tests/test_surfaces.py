@@ -91,12 +91,15 @@ def test_painting_hangs_on_a_wall_over_the_bed(layouts):
         assert off.min() <= 0.3 + 1e-6
 
 
-def _above_met(bed: fl.Pose, wall: int, u: float) -> bool:
+def _above_met(bed: fl.Pose, wall: int, u: float, **params: float) -> bool:
     room = RoomGeometry.from_room(fl.load_plan(PLAN).room)
     poses = {"bed": bed, "painting": wall_pose(room, wall, u, 1.0, 0.04)}
     plan = copy.deepcopy(PLAN)
     plan["objects"] = [o for o in plan["objects"] if o["id"] in poses]
     plan["rules"] = [r for r in plan["rules"] if r["rule"] in ("above", "at_wall")]
+    for r in plan["rules"]:
+        if r["rule"] == "above":
+            r["params"] = params
     report = fl.Layout(fl.load_plan(plan), poses).rule_report()
     return next(r.satisfied for r in report if r.rule == "above")
 
@@ -113,6 +116,9 @@ def test_above_needs_the_target_by_the_wall_it_hangs_on():
     assert _above_met(corner, 3, 0.7)
     assert not _above_met(corner, 2, 4.0 - 0.45)
     assert not _above_met(corner, 0, 0.45)
+    # unless the plan allows the target's side to the wall, or a larger gap
+    assert _above_met(corner, 2, 4.0 - 0.45, max_angle=90.0)
+    assert _above_met(fl.Pose(1.5, 1.5, -np.pi / 2, 0.0, "floor"), 3, 1.5, wall_gap=0.6)
 
 
 def test_back_wall_is_the_wall_a_footprint_stands_with_its_back_to():

@@ -25,7 +25,7 @@ from forcelayout.batching import SampleTask, drive
 from forcelayout.clearance import WindowTerm
 from forcelayout.forces import ForceModel, RuleGroup
 from forcelayout.rules.base import ParamArrays, State
-from forcelayout.surfaces.walls import back_wall, hanging_centres, target_gap
+from forcelayout.surfaces.walls import back_wall, hanging_centres, target_stand
 from forcelayout.verdict import FloorVerdict, JudgeRequest
 
 __all__ = ["parents", "initial_poses", "start_poses", "propose_poses", "relocate", "Starts",
@@ -56,7 +56,7 @@ class _Wants:
     related: set[int] = field(default_factory=set)  # every target row
     # per object hanging on the wall above this one: where its centre can go, (wall, u0, u1)
     # rows (surfaces.walls.hanging_centres), and how far and how turned this one may stand
-    # from that wall (surfaces.walls.target_gap)
+    # from that wall (surfaces.walls.target_stand)
     hanging: list[tuple[np.ndarray, tuple[float, float]]] = field(default_factory=list)
     reach: float = 0.0  # how far from its start place its rules let it be (0: unsaid)
 
@@ -152,7 +152,7 @@ def _wants(model: ForceModel) -> list[_Wants]:
                 and b.target in row:
             top = float(model.plan.object(b.target).size[2])
             out[row[b.target]].hanging.append((hanging_centres(model.plan, b, top),
-                                               target_gap(b)))
+                                               target_stand(b)))
     return out
 
 

@@ -163,10 +163,10 @@ class Above(_SurfaceRule):
     """Hang on a wall above the target (e.g. a painting above the bed).
 
     Satisfied when the object hangs flat on a wall (as ``on_wall``), the
-    target stands with its back to that wall (its front within ``max_turn``
-    degrees, 45, of the wall's inward normal, its footprint at most ``wall_gap`` metres
-    from it: a cabinet on the side wall beside a counter's end, or on the
-    wall across the corner from a washer a metre out, is not above it), the
+    target stands with its back to that wall (its front within ``max_angle``
+    degrees of the wall's inward normal, its footprint at most ``wall_gap``
+    metres from it: a cabinet on the side wall beside a counter's end, or on
+    the wall across the corner from a washer a metre out, is not above it), the
     object's centre lies within the target's extent along that wall, and
     its bottom is at least ``clearance`` metres above the target's top (and
     its top at most ``high``, default the ceiling).
@@ -176,9 +176,6 @@ class Above(_SurfaceRule):
     target = "required"
     bond = True
     start = StartHint(clear_wall_above_target=True)
-    #: Largest angle between the target's front and the inward normal of the wall the
-    #: object hangs on, degrees (the target stands with its back to that wall).
-    max_turn = 45.0
 
     class Params(Rule.Params):
         clearance: float = Field(0.1, ge=0, description="Smallest gap above the target, m.")
@@ -187,6 +184,9 @@ class Above(_SurfaceRule):
         tolerance: float = Field(0.02, gt=0, description="Largest gap behind the object, m.")
         wall_gap: float = Field(0.3, ge=0, description="Largest gap between the target's "
                                 "footprint and the wall the object hangs on, m.")
+        max_angle: float = Field(45.0, gt=0, le=180,
+                                 description="Largest angle between the target's front and "
+                                             "the inward normal of that wall, degrees.")
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         room = state.room
@@ -201,7 +201,7 @@ class Above(_SurfaceRule):
             - room.normal_offset[w][:, None]
         ok &= off.min(axis=1) <= np.asarray(p.wall_gap, dtype=float) + _Z_TOL
         ok &= np.einsum("bk,bk->b", state.front[j], room.normal[w]) \
-            >= np.cos(np.radians(self.max_turn)) - 1e-9
+            >= np.cos(np.radians(np.asarray(p.max_angle, dtype=float))) - 1e-9
         ut = np.einsum("bck,bk->bc", state.corners[j], t) - toff[:, None]
         uc = np.einsum("bk,bk->b", state.pos[i], t) - toff
         ok &= (uc >= ut.min(axis=1) - _Z_TOL) & (uc <= ut.max(axis=1) + _Z_TOL)

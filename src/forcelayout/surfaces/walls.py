@@ -77,12 +77,13 @@ def target_clearance(binding: Binding) -> float:
     return float(getattr(binding.params, "clearance", 0.0))
 
 
-def target_gap(binding: Binding) -> tuple[float, float]:
-    """Largest gap (metres) between the target and the wall of a wall binding, and largest
-    turn (degrees) of the target's front from the wall's inward normal (the rule's
-    ``wall_gap`` param and ``max_turn``; any where the rule has none)."""
+def target_stand(binding: Binding) -> tuple[float, float]:
+    """How a wall binding's target stands by the wall the object hangs on: the largest gap
+    (metres) between them and the largest angle (degrees) between the target's front and
+    the wall's inward normal (the rule's ``wall_gap`` and ``max_angle`` params; any where
+    the rule has none)."""
     return (float(getattr(binding.params, "wall_gap", math.inf)),
-            float(getattr(binding.rule, "max_turn", 180.0)))
+            float(getattr(binding.params, "max_angle", 180.0)))
 
 
 def opening_blocks(plan: Plan, wall: int) -> list[Block]:
@@ -194,7 +195,7 @@ def back_wall(room: RoomGeometry, corners: np.ndarray, front: np.ndarray, gap: f
 
     Of the walls the footprint's front faces away from (within ``turn``
     degrees of the wall's inward normal), the nearest one within ``gap``
-    metres of it (the ``above`` rule's ``wall_gap`` and ``max_turn``); where
+    metres of it (the ``above`` rule's ``wall_gap`` and ``max_angle``); where
     there is none, the nearest wall.
 
     Parameters
@@ -245,7 +246,7 @@ def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gene
                 continue
             tc, tt = corners_tops(cp, poses, [b.target])
             front = np.array([-np.sin(poses[b.target].yaw), np.cos(poses[b.target].yaw)])
-            walls = [int(back_wall(room, tc[0], front, *target_gap(b))[0])]
+            walls = [int(back_wall(room, tc[0], front, *target_stand(b))[0])]
             low = max(low, float(tt[0]) + target_clearance(b))
         else:
             pinned = getattr(b.params, "wall", None)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from forcelayout.bindings import compile_plan
 from forcelayout.errors import PlanError, Problem
 from forcelayout.plan import Plan
-from forcelayout.surfaces.walls import free_wall_stretches, target_clearance, wall_band
+from forcelayout.surfaces.walls import free_wall_stretches, wall_band
 
 __all__ = ["check_surfaces"]
 
@@ -32,9 +32,9 @@ def check_surfaces(plan: Plan) -> None:
         k = b.index
         path = f"rules[{k}] ({b.rule.name})"
         w, _, h = plan.object(b.object).size
-        low, high = wall_band(b, room.height)
-        if b.target in ids and cp.surface_of(b.target) is None:
-            low = max(low, plan.object(b.target).size[2] + target_clearance(b))
+        on_floor = b.target in ids and cp.surface_of(b.target) is None
+        low, high = wall_band(b, room.height,
+                              plan.object(b.target).size[2] if on_floor else None)
         if high - low < h - 1e-9:
             problems.append(Problem(f"{path}.params", f"{b.object!r} is {h:g} m tall but its "
                                     f"band on the wall is {low:.2f}..{high:.2f} m; lower 'low', "

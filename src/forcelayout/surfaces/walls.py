@@ -17,7 +17,7 @@ import numpy as np
 
 from forcelayout.bindings import Binding, CompiledPlan
 from forcelayout.forces import ForceModel
-from forcelayout.geometry import RoomGeometry, box_corners
+from forcelayout.geometry import RoomGeometry, box_corners, front_vectors
 from forcelayout.layout import Pose
 from forcelayout.options import SolverConfig
 from forcelayout.plan import Plan
@@ -61,15 +61,21 @@ def wall_pose(room: RoomGeometry, wall: int, u: float, z: float, depth: float) -
                 f"wall:{wall}")
 
 
-def wall_band(binding: Binding, room_height: float) -> tuple[float, float]:
+def wall_band(binding: Binding, room_height: float, target_top: float | None = None
+              ) -> tuple[float, float]:
     """Lowest bottom and highest top (metres) a wall binding allows.
 
     Read from the rule's ``low`` and ``high`` params where it has them
-    (``low`` 0, ``high`` the ceiling otherwise).
+    (``low`` 0, ``high`` the ceiling otherwise); with ``target_top``, the
+    height of the target's top, the bottom also clears it by the rule's
+    ``clearance`` (:func:`target_clearance`).
     """
     high = getattr(binding.params, "high", None)
     high = room_height if high is None else min(float(high), room_height)
-    return float(getattr(binding.params, "low", 0.0)), high
+    low = float(getattr(binding.params, "low", 0.0))
+    if target_top is not None:
+        low = max(low, target_top + target_clearance(binding))
+    return low, high
 
 
 def target_clearance(binding: Binding) -> float:
@@ -168,12 +174,11 @@ def hanging_centres(plan: Plan, binding: Binding, target_top: float) -> np.ndarr
         metres from ``polygon[wall]``.
     """
     w, _, h = plan.object(binding.object).size
-    low, high = wall_band(binding, plan.room.height)
-    low = max(low, target_top + target_clearance(binding))
+    low, high = wall_band(binding, plan.room.height, target_top)
     rows = [(wall, a + w / 2, b - w / 2)
-            for wall in range(len(plan.room.polygon))
+            for wall in range(len(plan.room.polygon)) if high - low >= h
             for a, b in free_wall_stretches(plan, wall, low, high, h, margin=_MARGIN)
-            if b - a >= w and high - low >= h]
+            if b - a >= w]
     return np.array(rows, dtype=float).reshape(-1, 3)
 
 
@@ -237,7 +242,6 @@ def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gene
     for b in specs:
         oid = b.object
         w, d, h = cp.size([oid])[0]
-        low, high = wall_band(b, H)
         span: tuple[float, float] | None = None
         walls: list[int]
         if b.target is not None:
@@ -245,10 +249,11 @@ def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gene
                 out.missing.append(f"{oid}: its target {b.target!r} was not placed")
                 continue
             tc, tt = corners_tops(cp, poses, [b.target])
-            front = np.array([-np.sin(poses[b.target].yaw), np.cos(poses[b.target].yaw)])
+            front = front_vectors(poses[b.target].yaw)
             walls = [int(back_wall(room, tc[0], front, *target_stand(b))[0])]
-            low = max(low, float(tt[0]) + target_clearance(b))
+            low, high = wall_band(b, H, float(tt[0]))
         else:
+            low, high = wall_band(b, H)
             pinned = getattr(b.params, "wall", None)
             walls = [int(pinned)] if pinned is not None else rng.permutation(room.n_walls).tolist()
         spot = None

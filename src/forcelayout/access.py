@@ -35,7 +35,7 @@ from forcelayout.clearance import push_out
 from forcelayout.plan import SceneObject
 from forcelayout.rules.base import Access, State, stacked_rows
 
-__all__ = ["CATEGORY_ACCESS", "access_of", "AccessTerm", "access_term"]
+__all__ = ["CATEGORY_ACCESS", "access_of", "zone_boxes", "AccessTerm", "access_term"]
 
 _FRONT = ("front",)
 _LONG_SIDES = ("left", "right")
@@ -83,6 +83,37 @@ def access_of(obj: SceneObject, bindings: Sequence[Binding] = ()) -> Access | No
     return None
 
 
+def zone_boxes(pos: np.ndarray, right: np.ndarray, front: np.ndarray, half: np.ndarray,
+               direction: np.ndarray, depth: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The access zones of owners at the given poses.
+
+    Parameters
+    ----------
+    pos, right, front, half : ndarray, shape (..., 2)
+        Each zone's owner: centre, unit axes and half size.
+    direction : ndarray, shape (..., 2)
+        The zone's side in its owner's frame (``(0, 1)`` is the front).
+    depth : ndarray, shape (...)
+        Depth of each zone, metres.
+
+    Returns
+    -------
+    centre, out, lateral, half : ndarray, shape (..., 2)
+        Each zone's centre, outward and lateral unit axes, and half size
+        (along ``lateral``, along ``out``).
+    """
+    lx, ly = direction[..., 0:1], direction[..., 1:2]
+    out = lx * right + ly * front
+    half = np.broadcast_to(half, np.broadcast_shapes(half.shape, out.shape))
+    along = np.abs(ly[..., 0]) * half[..., 1] + np.abs(lx[..., 0]) * half[..., 0]
+    wide = np.abs(ly[..., 0]) * half[..., 0] + np.abs(lx[..., 0]) * half[..., 1]
+    centre = pos + out * (along + 0.5 * depth)[..., None]
+    lateral = np.stack([out[..., 1], -out[..., 0]], axis=-1)
+    return centre, out, lateral, np.stack([wide, 0.5 * np.broadcast_to(depth, wide.shape)],
+                                          axis=-1)
+
+
 class AccessTerm:
     """Pushes solid objects out of the access zones of the others.
 
@@ -119,14 +150,8 @@ class AccessTerm:
     def zones(self, state: State) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Centres (Z, 2), outward axes (Z, 2), lateral axes (Z, 2), half sizes (Z, 2)."""
         o = self.owner
-        lx, ly = self.direction[:, 0:1], self.direction[:, 1:2]
-        out = lx * state.right[o] + ly * state.front[o]
-        h = state.half[o]
-        along = np.abs(ly[:, 0]) * h[:, 1] + np.abs(lx[:, 0]) * h[:, 0]
-        wide = np.abs(ly[:, 0]) * h[:, 0] + np.abs(lx[:, 0]) * h[:, 1]
-        centre = state.pos[o] + out * (along + 0.5 * self.depth)[:, None]
-        lateral = np.stack([out[:, 1], -out[:, 0]], axis=1)
-        return centre, out, lateral, np.stack([wide, 0.5 * self.depth], axis=1)
+        return zone_boxes(state.pos[o], state.right[o], state.front[o], state.half[o],
+                          self.direction, self.depth)
 
     def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
         n = state.n

@@ -204,3 +204,29 @@ def test_every_suite_plan_loads(folder):
     assert len(files) >= 12
     for f in files:
         assert fl.load_plan(f).name == f.stem
+
+
+def test_access_quick() -> None:
+    """Access audit: the share of layouts leaving an object with no access zone free."""
+    result, rest = run("access.py", "--plans", "bedroom", "--samples", "3",
+                       "--baseline-tries", "60", "--jobs", "1", "--markdown")
+    assert result["benchmark"] == "access"
+    (row,) = result["plans"]
+    assert row["plan"] == "bedroom" and row["forcelayout"]["layouts"] == 3
+    for side in ("forcelayout", "baseline"):
+        s = result["overall"][side]
+        assert s["blocked"] <= s["layouts"]
+    assert "| bedroom | 3 |" in rest
+    sys.path.insert(0, str(BENCH))
+    from access import blocked_owners
+
+    plan = fl.Plan.from_dict({
+        "name": "wardrobe", "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]]},
+        "objects": [{"id": "wardrobe", "category": "wardrobe", "size": [1.0, 0.6, 2.0]},
+                    {"id": "box", "category": "box", "size": [0.6, 0.6, 0.5]}],
+        "rules": []})
+    ward = fl.Pose(1.5, 0.3, 0.0)  # back to the wall at y = 0, front towards +y
+    in_front = fl.Layout(plan, {"wardrobe": ward, "box": fl.Pose(1.5, 1.0, 0.0)})
+    aside = fl.Layout(plan, {"wardrobe": ward, "box": fl.Pose(2.6, 2.6, 0.0)})
+    assert blocked_owners(plan, in_front, 0.1) == [("wardrobe", ["box"])]
+    assert blocked_owners(plan, aside, 0.1) == []

@@ -103,6 +103,18 @@ def test_non_simple_polygon():
     data = plan_with(room__polygon=[[0, 0], [4, 3.5], [4, 0], [0, 3.5]])
     (p,) = problems(data)
     assert p.path == "room.polygon" and "simple" in p.message
+    assert "walls 0 and 2 cross" in p.message
+
+
+@pytest.mark.parametrize("polygon, says", [
+    # the first corner again at the end: wall 3 would have no length (0 layouts before)
+    ([[0, 0], [4, 0], [4, 3.5], [0, 3.5], [0, 0]], "corners 4 and 0 are the same point"),
+    ([[0, 0], [4, 0], [4, 0], [4, 3.5], [0, 3.5]], "corners 1 and 2 are the same point"),
+    ([[0, 0], [4, 0], [2, 0], [2, 3.5]], "walls 0 and 1 run back over each other"),
+])
+def test_a_polygon_that_is_not_simple_says_where(polygon, says):
+    (p,) = problems(plan_with(room__polygon=polygon))
+    assert p.path == "room.polygon" and says in p.message
 
 
 @pytest.mark.parametrize("bad", [float("nan"), -1.0, 0.0, float("inf")])

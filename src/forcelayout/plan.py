@@ -402,13 +402,46 @@ def _off_floor(name: str) -> bool:
     return registry.is_registered(name) and registry.get_rule(name).surface != "floor"
 
 
+def _polygon_fault(polygon: list) -> str:
+    """Where a floor polygon that is not simple goes wrong, as a clause for its message:
+    repeated corners, or the walls (wall ``i`` runs from corner ``i`` to corner ``i + 1``)
+    that cross or run back over each other."""
+    v = [tuple(map(float, p)) for p in polygon]
+    n = len(v)
+    i = _repeated_corner(polygon)
+    if i is not None:
+        return (f" (corners {i} and {(i + 1) % n} are the same point {list(v[i])}: "
+                f"drop one)")
+    edges = [shapely.LineString([v[i], v[(i + 1) % n]]) for i in range(n)]
+    for i in range(n):
+        for j in range(i + 1, n):
+            meet = edges[i].intersection(edges[j])
+            if meet.is_empty:
+                continue
+            if j == i + 1 or (i == 0 and j == n - 1):  # neighbours share a corner only
+                if meet.geom_type == "Point":
+                    continue
+                return f" (walls {i} and {j} run back over each other)"
+            return f" (walls {i} and {j} cross)"
+    return " (its corners lie on one line)" if shapely.Polygon(v).area <= 1e-9 else ""
+
+
+def _repeated_corner(polygon: list) -> int | None:
+    """The first corner of a floor polygon that the next one repeats (within 1 nm)."""
+    v = np.asarray(polygon, dtype=float)
+    same = np.flatnonzero(np.abs(v - np.roll(v, -1, axis=0)).max(axis=1) <= 1e-9)
+    return int(same[0]) if len(same) else None
+
+
 def _semantic_problems(plan: Plan) -> Iterator[Problem]:
     room = plan.room
     poly = room.shape
     # room polygon
-    if not poly.is_valid or not shapely.is_simple(poly.exterior) or poly.area <= 1e-9:
+    if not poly.is_valid or not shapely.is_simple(poly.exterior) or poly.area <= 1e-9 \
+            or _repeated_corner(room.polygon) is not None:
         yield Problem("room.polygon", "the floor polygon must be simple (no self-intersections, "
-                      "no repeated vertices) with non-zero area; list its corners in order")
+                      "no repeated vertices) with non-zero area; list its corners in order"
+                      + _polygon_fault(room.polygon))
         return
     n_walls = len(room.polygon)
     for kind, openings in (("doors", room.doors), ("windows", room.windows)):

@@ -342,3 +342,37 @@ def test_a_process_pool_stops_at_once_with_its_batches_running():
         time.sleep(0.1)
         fl.sampling.stop_executor(threads)
         assert waiting.cancelled() and not running.cancelled()
+
+
+def test_rules_of_many_layouts_are_judged_as_one_by_one():
+    """The rule reports of a batch (one stacked state per set of placed objects, surface
+    rules included; a rule that is not batched per layout) are those of each layout
+    judged alone."""
+    from forcelayout import rules
+    from forcelayout.report import judge_rules, judge_rules_many
+
+    class FarFromDoorAlone(rules.Rule):  # not batched: judged once per layout
+        name = "test_far_from_door_alone"
+        target = "none"
+
+        def satisfied(self, state, i, j, p):
+            return state.pos[i, 0] > 1.5
+
+    rules.register(FarFromDoorAlone.name, FarFromDoorAlone)
+    try:
+        bedroom = fl.load_plan("bedroom")
+        plan = fl.Plan.model_validate({**bedroom.model_dump(), "rules": [
+            *bedroom.model_dump()["rules"], {"rule": FarFromDoorAlone.name, "object": "bed"}]})
+        lays = [fl.Layout(plan, lay.poses) for lay in fl.generate(bedroom, 5, seed=3)]
+        moved = dict(lays[0].poses)
+        moved["bed"] = fl.Pose(0.5, 0.5, 1.0)  # some rules fail
+        lays.append(fl.Layout(plan, moved))
+        fewer = dict(lays[1].poses)
+        del fewer["desk_chair"]
+        lays.append(fl.Layout(plan, fewer))  # other objects placed: judged on its own
+        want = [[(r.index, r.satisfied) for r in judge_rules(lay)] for lay in lays]
+        got = [[(r.index, r.satisfied) for r in rep] for rep in judge_rules_many(lays)]
+        assert got == want
+        assert any(ok is False for _, ok in want[5]) and any(ok is None for _, ok in want[6])
+    finally:
+        rules.unregister(FarFromDoorAlone.name)

@@ -247,6 +247,15 @@ class CompiledPlan:
             out.append(b)
         return out
 
+    def judged(self, ids: Iterable[str]) -> list[Binding]:
+        """The bindings a finished state of objects ``ids`` judges: those whose object and
+        target (if any) are among them; a binding whose target names a functional area
+        rather than an object is not judged."""
+        placed = set(ids)
+        return [b for b in self.bindings if b.object in placed
+                and (b.target is None or b.target in placed)  # an unplaced object, an area
+                and not (b.rule.target == "required" and b.target is None)]
+
     def judge(self, state: State) -> dict[int, bool]:
         """Every binding's own check on a finished state: ``{plan rule index: met}``.
 
@@ -255,17 +264,8 @@ class CompiledPlan:
         a functional area rather than an object.
         """
         row = {oid: k for k, oid in enumerate(state.ids)}
-        judged = []
-        for b in self.bindings:
-            if b.object not in row:
-                continue
-            if b.target is not None and b.target not in row:
-                continue  # an unplaced object, or an area
-            if b.rule.target == "required" and b.target is None:
-                continue
-            judged.append(b)
         out: dict[int, bool] = {}
-        for g in group_bindings(judged, row):
+        for g in group_bindings(self.judged(row), row):
             out.update(zip(g.index.tolist(), g.satisfied(state).tolist(), strict=True))
         return out
 

@@ -190,6 +190,16 @@ class Layout:
             self._rules = judge_rules(self)
         return list(self._rules)
 
+    @staticmethod
+    def _judge_rules_of(layouts: list[Layout]) -> None:
+        """Compute the rule reports of many layouts at once (on stacked states), as
+        :meth:`rule_report` would one by one."""
+        from forcelayout.report import judge_rules_many
+
+        todo = [lay for lay in layouts if lay._rules is None]
+        for lay, rules in zip(todo, judge_rules_many(todo), strict=True):
+            lay._rules = rules
+
     @property
     def rule_satisfaction(self) -> float:
         """Fraction of judged bindings met, in [0, 1] (1 if there are none)."""

@@ -147,9 +147,10 @@ def _solve_many(plan: Plan, seeds: list[int], opts: Options) -> list[Layout]:
                                   missing=p.missing, stages=p.stages, repairs=p.repairs)
             if p.missing:
                 report.failures.append("missing: " + "; ".join(p.missing))
-            layout = Layout(plan, p.poses, seed, report)
+            layouts.append(Layout(plan, p.poses, seed, report))
+        Layout._judge_rules_of(layouts)  # all rule reports on one stacked state
+        for layout in layouts:
             _judge(layout, opts)
-            layouts.append(layout)
     share = (time.perf_counter() - t0) / max(len(seeds), 1)
     for lay in layouts:
         lay.report.seconds = share

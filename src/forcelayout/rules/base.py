@@ -251,8 +251,13 @@ class State:
             return self
         m = self.rows
         rows = slice(b * m, (b + 1) * m)
-        return State(self.pos[rows], self.yaw[rows], self.size[rows], self.room, self.ids,
-                     None if self.z is None else self.z[rows], self.surfaces)
+
+        def own(names: tuple[str, ...] | None) -> tuple[str, ...] | None:
+            # names given per stacked row are sliced; names of one sample's rows are shared
+            return names[rows] if names is not None and len(names) == self.n else names
+
+        return State(self.pos[rows], self.yaw[rows], self.size[rows], self.room, own(self.ids),
+                     None if self.z is None else self.z[rows], own(self.surfaces))
 
     def _separations(self) -> np.ndarray:
         """Blocks of (rows + doors)^2 separations, shape (samples, M, M)."""

@@ -13,6 +13,13 @@ zone is blocked when an unrelated solid object stands more than
 for the force). Prints JSON: per plan and overall, ``blocked_pct`` of each
 side and the pairs (``"intruder>owner"``) seen most often.
 
+Then the same with the ``access`` check required (``check_kwargs=
+{"access_clearance": True}``, the command line's ``--access``): for
+forcelayout, ``--samples`` raw samples of a run with seed 0 and the share
+that pass every check and meet >= 95 % of their rules (``yield_pct``) with
+their CPU time (``good_per_s``); for the baseline, its yield per try and
+good layouts per CPU second within ``--baseline-tries``.
+
 Usage::
 
     python benchmarks/access.py [--plans DIR_OR_JSON ...] [--samples 30]
@@ -24,6 +31,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import time
 from collections import Counter
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
@@ -34,6 +42,7 @@ import forcelayout as fl
 from forcelayout import baselines
 from forcelayout.access import access_of
 from forcelayout.bindings import compile_plan
+from forcelayout.sampling import sample_seed, solve_many
 
 HERE = Path(__file__).resolve().parent
 SIDES = {"front": (0.0, 1.0), "back": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
@@ -95,13 +104,37 @@ def _summary(plan: fl.Plan, layouts: list, area: float) -> dict:
             "pairs": dict(pairs.most_common(3))}
 
 
+REQUIRED = {"access_clearance": True}
+
+
+def _required(plan: fl.Plan, samples: int, tries: int, area: float) -> dict:
+    """Yield and speed of both samplers with the access check required."""
+    kw = {**REQUIRED, "max_access_overlap": area}
+    fl.solve(plan, 2**62, check_kwargs=kw)  # warm caches outside the timing
+    t0 = time.process_time()
+    raw = solve_many(plan, [sample_seed(0, k) for k in range(samples)], check_kwargs=kw)
+    cpu = time.process_time() - t0
+    good = sum(lay.report.valid for lay in raw)  # checks passed, >= 95 % of rules met
+    t0 = time.process_time()
+    base = baselines.rejection_sample(plan, samples, seed=0, max_tries=tries, check_kwargs=kw)
+    bcpu = time.process_time() - t0
+    return {"forcelayout": {"samples": samples, "good": good,
+                            "yield_pct": round(100 * good / samples, 1),
+                            "good_per_s": round(good / cpu, 2) if cpu > 0 else None},
+            "baseline": {"tries": base.tries, "good": len(base),
+                         "yield_pct": round(100 * len(base) / base.tries, 2)
+                         if base.tries else None,
+                         "good_per_s": round(len(base) / bcpu, 2) if bcpu > 0 else None}}
+
+
 def bench_plan(source: str, samples: int, tries: int, area: float) -> dict:
     plan = fl.load_plan(source)
     gen = fl.generate(plan, samples, seed=0)
     base = baselines.rejection_sample(plan, samples, seed=0, max_tries=tries)
     return {"plan": Path(source).stem if source.endswith(".json") else source,
             "forcelayout": _summary(plan, list(gen), area),
-            "baseline": _summary(plan, list(base), area)}
+            "baseline": _summary(plan, list(base), area),
+            "required": _required(plan, samples, tries, area)}
 
 
 def _sources(items: list[str]) -> list[str]:
@@ -113,16 +146,21 @@ def _sources(items: list[str]) -> list[str]:
 
 
 def markdown(result: dict) -> str:
-    lines = ["| plan | layouts | blocked % | BL layouts | BL blocked % | most often |",
-             "|---|---|---|---|---|---|"]
+    lines = ["| plan | layouts | blocked % | BL layouts | BL blocked % | with the check: good % "
+             "| good/s | BL good % | BL good/s | most often |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for r in result["plans"]:
         f, b = r["forcelayout"], r["baseline"]
+        rf, rb = r["required"]["forcelayout"], r["required"]["baseline"]
         lines.append(f"| {r['plan']} | {f['layouts']} | {f['blocked_pct']} | {b['layouts']} | "
-                     f"{b['blocked_pct']} | {', '.join(f['pairs'])} |")
+                     f"{b['blocked_pct']} | {rf['yield_pct']} | {rf['good_per_s']} | "
+                     f"{rb['yield_pct']} | {rb['good_per_s']} | {', '.join(f['pairs'])} |")
     o = result["overall"]
+    rf, rb = o["required"]["forcelayout"], o["required"]["baseline"]
     lines.append(f"| **overall** | {o['forcelayout']['layouts']} | "
                  f"{o['forcelayout']['blocked_pct']} | {o['baseline']['layouts']} | "
-                 f"{o['baseline']['blocked_pct']} | |")
+                 f"{o['baseline']['blocked_pct']} | {rf['yield_pct']} | {rf['good_per_s']} | "
+                 f"{rb['yield_pct']} | {rb['good_per_s']} | |")
     return "\n".join(lines)
 
 
@@ -149,6 +187,22 @@ def main(argv: list[str] | None = None) -> None:
         k = sum(r[side]["blocked"] for r in rows)
         overall[side] = {"layouts": n, "blocked": k,
                          "blocked_pct": round(100 * k / n, 1) if n else None}
+    req = [r["required"] for r in rows]
+
+    def per_second(side: str) -> float | None:  # whole suite: layouts over CPU seconds
+        secs = sum(q[side]["good"] / q[side]["good_per_s"] for q in req
+                   if q[side]["good_per_s"])
+        return round(sum(q[side]["good"] for q in req) / secs, 2) if secs else None
+
+    fs = sum(q["forcelayout"]["samples"] for q in req)
+    bt = sum(q["baseline"]["tries"] for q in req)
+    overall["required"] = {
+        "forcelayout": {"yield_pct": round(100 * sum(q["forcelayout"]["good"] for q in req)
+                                           / fs, 1) if fs else None,
+                        "good_per_s": per_second("forcelayout")},
+        "baseline": {"yield_pct": round(100 * sum(q["baseline"]["good"] for q in req) / bt, 2)
+                     if bt else None,
+                     "good_per_s": per_second("baseline")}}
     result = {"benchmark": "access",
               "config": {"samples": args.samples, "baseline_tries": args.baseline_tries,
                          "area": args.area},

@@ -216,6 +216,9 @@ def test_access_quick() -> None:
     for side in ("forcelayout", "baseline"):
         s = result["overall"][side]
         assert s["blocked"] <= s["layouts"]
+        req = row["required"][side]
+        assert 0 <= req["yield_pct"] <= 100 and req["good"] >= 0
+    assert row["required"]["forcelayout"]["samples"] == 3
     assert "| bedroom | 3 |" in rest
     sys.path.insert(0, str(BENCH))
     from access import blocked_owners

@@ -4,6 +4,7 @@ import json
 import re
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -222,3 +223,25 @@ def test_input_errors_of_every_kind_are_one_line_with_status_2(tmp_path, capsys)
     err = capsys.readouterr().err.strip().splitlines()
     assert err[-1] == f"error: asset library '{tmp_path / 'no_library'}' is not a folder"
     assert not any("Traceback" in line or "--debug" in line for line in err)
+
+
+def test_generate_access_requires_free_access_zones(tmp_path):
+    """``--access`` makes the access check a requirement: in a 3 x 3 m bedroom with a bed,
+    a wardrobe, a desk and its chair some layouts leave the wardrobe's front or the desk's
+    blocked without it, none with it."""
+    from forcelayout import Layout, load_plan
+    from forcelayout.validate import check_layout
+
+    plan = Path(__file__).resolve().parents[1] / "benchmarks/plans/bedroom_small_single_3x3.json"
+    p = load_plan(plan)
+    blocked = {}
+    for flag in ([], ["--access"]):
+        out = tmp_path / f"out{len(flag)}"
+        assert main(["generate", str(plan), "-n", "8", "--out", str(out), "--quiet",
+                     "--format", "none", *flag]) == 0
+        written = [f for f in out.glob("*.json") if f.name not in ("plan.json", "summary.json")]
+        assert len(written) == 8
+        blocked[bool(flag)] = sum(
+            check_layout(Layout.from_json(f.read_text(), p), access_clearance=True)
+            .failed("access") for f in written)
+    assert blocked[False] >= 1 and blocked[True] == 0

@@ -530,3 +530,43 @@ def test_crowded_layouts_checked_together_fail_as_they_fail_alone():
     assert [r.failures for r in together] == [r.failures for r in alone]
     kinds = {f.split(":", 1)[0] for r in alone for f in r.failures}
     assert {"collision", "outside", "door", "reachable"} <= kinds
+
+
+ACCESS_PLAN = Plan.from_dict({
+    "name": "access", "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]]},
+    "objects": [{"id": "wardrobe", "category": "wardrobe", "size": [1.0, 0.6, 2.0]},
+                {"id": "box", "category": "box", "size": [0.6, 0.6, 0.5]},
+                {"id": "bed", "category": "bed", "size": [1.4, 2.0, 0.5]}],
+    "rules": []})
+
+
+def test_access_check_needs_one_free_side_of_each_object():
+    ward = Pose(1.5, 0.3, 0.0)  # back to the wall y = 0, front towards +y: zone y 0.6..1.2
+    bed = Pose(0.7, 2.0, 0.0)  # left side against the wall x = 0; 0.08 m2 in that zone
+    lay = Layout(ACCESS_PLAN, {"wardrobe": ward, "box": Pose(1.5, 1.0, 0.0), "bed": bed})
+    assert not [f for f in check_layout(lay).failures if f.startswith("access")]  # opt-in
+    rep = check_layout(lay, access_clearance=True)
+    lines = rep.by_check()["access"]
+    assert any("'wardrobe'" in f and "front blocked by 'box'" in f for f in lines)
+    assert any("'bed'" in f and "left blocked by the wall" in f and "right blocked by 'box'"
+               in f for f in lines)
+    assert rep.failed("access")
+    # the box out of the way: the wardrobe's front and the bed's right side are free; the
+    # bed's corner in the wardrobe's zone is no block, unless max_access_overlap is smaller
+    clear = Layout(ACCESS_PLAN, {"wardrobe": ward, "box": Pose(2.6, 2.6, 0.0), "bed": bed})
+    assert not check_layout(clear, access_clearance=True).failed("access")
+    tight = check_layout(clear, access_clearance=True, max_access_overlap=0.01)
+    assert tight.by_check()["access"] == [
+        "'wardrobe' has no free side to be used from (front blocked by 'bed' (0.08 m²))"]
+
+
+def test_access_check_lets_related_objects_stand_in_a_zone():
+    plan = Plan.from_dict({**ACCESS_PLAN.model_dump(), "rules": [
+        {"rule": "in_front_of", "object": "box", "target": "wardrobe"}]})
+    lay = Layout(plan, {"wardrobe": Pose(1.5, 0.3, 0.0), "box": Pose(1.5, 1.0, 0.0)})
+    assert not check_layout(lay, access_clearance=True).failed("access")
+    # the free floor starts behind the box: the wardrobe's zone is the box deeper
+    lay = Layout(plan, {"wardrobe": Pose(1.5, 0.3, 0.0), "box": Pose(1.5, 1.0, 0.0),
+                        "bed": Pose(1.5, 2.3, 0.5 * math.pi)})
+    assert any("'wardrobe'" in f and "front blocked by 'bed'" in f
+               for f in check_layout(lay, access_clearance=True).failures)

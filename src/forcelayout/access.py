@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -35,7 +36,8 @@ from forcelayout.clearance import push_out
 from forcelayout.plan import SceneObject
 from forcelayout.rules.base import Access, State, stacked_rows
 
-__all__ = ["CATEGORY_ACCESS", "access_of", "zone_boxes", "AccessTerm", "access_term"]
+__all__ = ["CATEGORY_ACCESS", "access_of", "access_zones", "AccessZones", "zone_boxes",
+           "AccessTerm", "access_term"]
 
 _FRONT = ("front",)
 _LONG_SIDES = ("left", "right")
@@ -193,14 +195,33 @@ class AccessTerm:
         return keep
 
 
-def access_term(plan_objects: dict[str, SceneObject], ids: Sequence[str],
-                bindings: Sequence[Binding], walkable: np.ndarray,
-                related: np.ndarray) -> AccessTerm | None:
-    """The access term of a simulation's rows, or ``None`` when no row needs access."""
-    owner, direction, depth = [], [], []
+def access_zones(plan_objects: dict[str, SceneObject], ids: Sequence[str],
+                 bindings: Sequence[Binding], walkable: np.ndarray, related: np.ndarray
+                 ) -> AccessZones | None:
+    """The access zones of rows ``ids``: what :class:`AccessTerm` pushes out of and the
+    ``access`` check (:func:`forcelayout.validate.check_layout`) keeps free.
+
+    Parameters
+    ----------
+    plan_objects : dict of str to SceneObject
+    ids : sequence of str
+        The object of each row.
+    bindings : sequence of Binding
+        The plan's bindings (a rule may declare access; an object a rule stands in
+        front of its target, the chair at the desk, deepens the target's front zone by
+        its depth: the free floor a person needs starts behind it).
+    walkable : ndarray of bool, shape (N,)
+        Walkable covers: they own no zone and block none.
+    related : ndarray of bool, shape (N, N)
+        Pairs a rule relates: they do not block each other's zones.
+
+    Returns
+    -------
+    AccessZones or None
+        ``None`` when no row needs access.
+    """
+    owner, direction, depth, sides = [], [], [], []
     rows = set(ids)
-    # an object a rule stands in front of its target (the chair at the desk) takes the
-    # front of the target's zone: the free floor a person needs starts behind it
     in_front: dict[str, float] = {}
     for b in bindings:
         hint = b.rule.start
@@ -219,9 +240,42 @@ def access_term(plan_objects: dict[str, SceneObject], ids: Sequence[str],
             owner.append(r)
             direction.append(_DIRS[side])
             depth.append(acc.depth + (in_front.get(oid, 0.0) if side == "front" else 0.0))
+            sides.append(side)
     if not owner:
         return None
     own = np.array(owner, dtype=int)
     exempt = related[own].copy() | walkable[None, :]
     exempt[np.arange(len(own)), own] = True
-    return AccessTerm(own, np.array(direction), np.array(depth), exempt)
+    return AccessZones(own, np.array(direction, dtype=float), np.array(depth, dtype=float),
+                       exempt, tuple(sides))
+
+
+@dataclass(frozen=True)
+class AccessZones:
+    """The access zones of a set of rows (see :func:`access_zones`).
+
+    Attributes
+    ----------
+    owner : ndarray of int, shape (Z,)
+    direction : ndarray, shape (Z, 2)
+        The zone's side in its owner's frame (``(0, 1)`` is the front).
+    depth : ndarray, shape (Z,)
+    exempt : ndarray of bool, shape (Z, N)
+        Rows that do not block the zone (its owner, objects related to it, covers).
+    sides : tuple of str
+        The side name of each zone (``"front"``, ``"left"``, ...).
+    """
+
+    owner: np.ndarray
+    direction: np.ndarray
+    depth: np.ndarray
+    exempt: np.ndarray
+    sides: tuple[str, ...]
+
+
+def access_term(plan_objects: dict[str, SceneObject], ids: Sequence[str],
+                bindings: Sequence[Binding], walkable: np.ndarray,
+                related: np.ndarray) -> AccessTerm | None:
+    """The access term of a simulation's rows, or ``None`` when no row needs access."""
+    z = access_zones(plan_objects, ids, bindings, walkable, related)
+    return None if z is None else AccessTerm(z.owner, z.direction, z.depth, z.exempt)

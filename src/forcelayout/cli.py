@@ -24,6 +24,11 @@ OPTIONAL_COMMANDS = [("forcelayout.llm.cli", "llm", ["plan"]),
                      ("forcelayout.export_cmd", "export", ["export"]),
                      ("forcelayout.ground_cmd", "grounding", ["ground"])]
 
+#: Help of the ``--access`` option of ``generate`` and ``dataset``.
+ACCESS_HELP = ("require every object's access zone to be free (the front of a wardrobe, "
+               "counter or fridge, a long side of a bed: see docs/concepts.md); the layouts "
+               "otherwise only lean that way")
+
 
 def _cmd_generate(args: argparse.Namespace) -> int:
     from forcelayout.generate_cmd import run_generate
@@ -153,6 +158,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="picture per layout (default png)")
     g.add_argument("--no-relations", action="store_true", help="ablation: no relation forces")
     g.add_argument("--no-decor", action="store_true", help="ablation: drop decor objects")
+    g.add_argument("--access", action="store_true", help=ACCESS_HELP)
     g.add_argument("--quiet", action="store_true", help="no progress bar")
     g.add_argument("--assets", type=Path, default=None, metavar="DIR",
                    help="ground the plan to this asset library first: each object gets a mesh, "

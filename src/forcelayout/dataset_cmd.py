@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from forcelayout import examples
+from forcelayout.cli import ACCESS_HELP
 from forcelayout.dataset import INDEX, MANIFEST, DatasetError, build_dataset
 from forcelayout.diagnose import feasibility_warnings_as_lines
 from forcelayout.options import Options
@@ -68,6 +69,7 @@ def add_dataset_parser(sub: Any, count: Any) -> argparse.ArgumentParser:
                         "forcelayout[grounding]; see `forcelayout ground --help`)")
     d.add_argument("--max-attempts", type=count(0), default=None,
                    help="sample budget per plan (default max(4 N, N + 20))")
+    d.add_argument("--access", action="store_true", help=ACCESS_HELP)
     d.add_argument("--overwrite", action="store_true",
                    help="empty --out first if it holds another run's files")
     d.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -195,7 +197,9 @@ def run_dataset(args: argparse.Namespace) -> int:
                                        executor=executor, pictures=args.pictures,
                                        exports=exports, movable=movable,
                                        max_attempts=args.max_attempts, overwrite=args.overwrite,
-                                       options=Options(), prompts=prompts,
+                                       options=Options(check_kwargs={"access_clearance": True}
+                                                       if args.access else {}),
+                                       prompts=prompts,
                                        progress=not args.quiet, judge=judge,
                                        assets=args.assets, judge_timeout=args.judge_timeout)
             except KeyboardInterrupt:

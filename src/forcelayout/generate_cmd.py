@@ -100,7 +100,8 @@ def run_generate(args: argparse.Namespace) -> int:
                 drawing.append(executor.submit(_draw, lay, picture))
         written.append(stem)
 
-    opts = Options(relations=not args.no_relations, decor=not args.no_decor)
+    opts = Options(relations=not args.no_relations, decor=not args.no_decor,
+                   check_kwargs={"access_clearance": True} if args.access else {})
     start = time.perf_counter()
     try:
         with feasibility_warnings_as_lines():

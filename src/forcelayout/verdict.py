@@ -121,7 +121,7 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
             v.failures += report.failures
             for fail in report.failures:
                 check = fail.split(":", 1)[0]
-                if check in ("collision", "door", "window", "outside"):
+                if check in ("collision", "door", "window", "outside", "access"):
                     v.at_fault.update(row[n] for n in _QUOTED.findall(fail) if n in row)
             for blockers in report.blocked_by.values():
                 v.at_fault.update(row[n] for n in blockers if n in row)

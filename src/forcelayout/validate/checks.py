@@ -54,6 +54,7 @@ from forcelayout.geometry import (
     RoomGeometry,
     corners_from_axes,
     front_vectors,
+    obb_separation,
     right_vectors,
     separation_matrix,
 )
@@ -66,7 +67,8 @@ if TYPE_CHECKING:
 __all__ = ["CheckReport", "check_layout", "check_floors", "CHECKS", "window_zones"]
 
 #: Names of the checks, in the order they run.
-CHECKS = ("collision", "outside", "door", "window", "surface", "navigable", "reachable")
+CHECKS = ("collision", "outside", "door", "window", "access", "surface", "navigable",
+          "reachable")
 
 _SURFACE_TOL = 0.01  # metres of slack for objects on walls
 _BLOCKED_COST = 100.0  # cost of a blocked cell against a free one when naming blockers
@@ -179,6 +181,8 @@ def check_layout(
     door_clearance: bool = True,
     window_clearance: bool = True,
     wall_band: bool = False,
+    access_clearance: bool = False,
+    max_access_overlap: float = 0.1,
 ) -> CheckReport:
     """Run the deterministic checks on a layout.
 
@@ -210,6 +214,17 @@ def check_layout(
         centre *with* a wall band of the agent radius taken out
         (``navigable_fraction``) instead of ``free_fraction`` (default False,
         as DESIGN.md defines the check).
+    access_clearance : bool
+        Run the ``access`` check (default False): every object with access
+        zones (:mod:`forcelayout.access`: the front of a wardrobe, desk,
+        counter or fridge, a long side of a bed) keeps at least one of them
+        free. A zone is blocked when a solid object that no rule relates to
+        its owner covers more than ``max_access_overlap`` of it, or that much
+        of it lies off the floor. The simulation keeps the zones free by a
+        force and by start poses; this check makes it a requirement.
+    max_access_overlap : float
+        Area of an access zone, m², that may be covered or off the floor
+        before the zone counts as blocked (default 0.1).
 
     Returns
     -------
@@ -227,7 +242,9 @@ def check_layout(
     return check_floors([layout], agent_radius=agent_radius, grid=grid,
                         min_free_fraction=min_free_fraction, reach=reach,
                         max_overlap=max_overlap, door_clearance=door_clearance,
-                        window_clearance=window_clearance, wall_band=wall_band)[0]
+                        window_clearance=window_clearance, wall_band=wall_band,
+                        access_clearance=access_clearance,
+                        max_access_overlap=max_access_overlap)[0]
 
 
 def check_floors(
@@ -241,6 +258,8 @@ def check_floors(
     door_clearance: bool = True,
     window_clearance: bool = True,
     wall_band: bool = False,
+    access_clearance: bool = False,
+    max_access_overlap: float = 0.1,
 ) -> list[CheckReport]:
     """:func:`check_layout` for many layouts, the checks of their floors run together.
 
@@ -258,11 +277,12 @@ def check_floors(
     _check_positive("grid", grid, allow_zero=False)
     _check_positive("reach", reach)
     _check_positive("max_overlap", max_overlap)
+    _check_positive("max_access_overlap", max_access_overlap)
     if not 0.0 <= min_free_fraction <= 1.0:
         raise ValueError(f"check_layout: min_free_fraction must lie in [0, 1], "
                          f"got {min_free_fraction!r}")
     args = (agent_radius, grid, min_free_fraction, reach, max_overlap, door_clearance,
-            window_clearance, wall_band)
+            window_clearance, wall_band, access_clearance, max_access_overlap)
     kept = _FLOOR_CHECKS.get()
     floors: list[tuple | None] = []
     todo: dict[tuple, list[int]] = {}  # layouts whose floors are checked together
@@ -330,7 +350,8 @@ _DIST_BYTES = 32 * 2**20
 def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
                   half: np.ndarray, agent_radius: float, grid: float,
                   min_free_fraction: float, reach: float, max_overlap: float,
-                  door_clearance: bool, window_clearance: bool, wall_band: bool) -> list[tuple]:
+                  door_clearance: bool, window_clearance: bool, wall_band: bool,
+                  access_clearance: bool, max_access_overlap: float) -> list[tuple]:
     """Every check of the floor objects alone (all but ``surfaces``) of B floors of
     ``layout``'s plan with the same objects ``ids`` at poses (B, N, 2) and (B, N), checked
     together: per floor, the failures before and after where ``surfaces`` goes, the
@@ -359,6 +380,10 @@ def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarr
     if window_clearance:
         for b, lines in enumerate(_windows(ids, boxes, polys, solid, height, layout,
                                            max_overlap)):
+            before[b] += lines
+    if access_clearance:
+        for b, lines in enumerate(_access(ids, boxes, polys, solid, walk, layout,
+                                          max_access_overlap)):
             before[b] += lines
     rg = room_grid(room, grid=grid, agent_radius=agent_radius)
     r2 = np.float32(agent_radius) ** 2
@@ -556,6 +581,61 @@ def _windows(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
         for b, hits in enumerate(_zone_overlaps(boxes, polys, tall, zone, max_overlap)):
             out[b] += [f"window: {ids[a]!r} ({height[a]:.2f} m tall) stands in front of "
                        f"window {k} (sill {sill[k]:.2f} m)" for a, _ in hits]
+    return out
+
+
+def _access(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
+            solid: np.ndarray, walk: np.ndarray, layout: Layout, limit: float
+            ) -> list[list[str]]:
+    """Per floor, a line for each object with every access zone blocked, saying by what."""
+    from forcelayout.access import access_zones, zone_boxes
+    from forcelayout.bindings import compile_plan
+
+    pos, right, front, half = boxes
+    nb = len(pos)
+    plan = layout.plan
+    row = {oid: k for k, oid in enumerate(ids)}
+    bindings = compile_plan(plan).bindings
+    related = np.zeros((len(ids), len(ids)), dtype=bool)
+    for bd in bindings:
+        if bd.object in row and bd.target in row:
+            related[row[bd.object], row[bd.target]] = related[row[bd.target], row[bd.object]] = True
+    zones = access_zones({o.id: o for o in plan.objects}, ids, bindings, walk, related)
+    if zones is None:
+        return [[] for _ in range(nb)]
+    o = zones.owner
+    zc, zo, zl, zh = zone_boxes(pos[:, o], right[:, o], front[:, o], half[:, o],
+                                zones.direction, zones.depth)  # (B, Z, 2)
+    nz = len(o)
+    corners = corners_from_axes(zc.reshape(-1, 2), zl.reshape(-1, 2), zo.reshape(-1, 2),
+                                zh.reshape(-1, 2)).reshape(nb, nz, 4, 2)
+    on_floor = layout.room.contains_boxes(corners)  # (B, Z): certainly on the floor
+    sep = obb_separation(pos[:, None, solid] - zc[:, :, None], zl[:, :, None],
+                         zo[:, :, None], zh[:, :, None], right[:, None, solid],
+                         front[:, None, solid], half[:, None, solid])  # (B, Z, S)
+    near = (sep < 0.0) & ~zones.exempt[:, solid][None]
+    out = []
+    for b in range(nb):
+        squares = _polygons(corners[b])
+        why: list[list[str]] = [[] for _ in range(nz)]
+        z, s = np.nonzero(near[b])
+        if len(z):
+            area = shapely.area(shapely.intersection(polys(b, solid[s]), squares[z]))
+            for zz, ss, a in zip(z.tolist(), s.tolist(), area.tolist(), strict=True):
+                if a > limit:
+                    why[zz].append(f"{ids[solid[ss]]!r} ({_area(a)} m²)")
+        for zz in np.flatnonzero(~on_floor[b]).tolist():
+            a = float(shapely.area(shapely.difference(squares[zz], layout.room.shape)))
+            if a > limit:
+                why[zz].append(f"the wall ({_area(a)} m² off the floor)")
+        lines = []
+        for u in dict.fromkeys(o.tolist()):
+            mine = np.flatnonzero(o == u).tolist()
+            if all(why[zz] for zz in mine):
+                sides = "; ".join(f"{zones.sides[zz]} blocked by {', '.join(why[zz])}"
+                                  for zz in mine)
+                lines.append(f"access: {ids[u]!r} has no free side to be used from ({sides})")
+        out.append(lines)
     return out
 
 

@@ -488,7 +488,7 @@ def test_checks_never_crash_on_random_plans_and_fractions_stay_in_range(plan, se
         o["walkable"] = w
     plan = Plan.model_validate(data)
     lay = random_layout(plan, seed, reject=False)
-    rep = check_layout(lay)
+    rep = check_layout(lay, access_clearance=True)
     assert 0.0 <= rep.navigable_fraction <= rep.free_fraction <= 1.0
     assert rep.ok == (not rep.failures)
     assert set(rep.unreachable) == set(rep.blocked_by)
@@ -506,9 +506,9 @@ def test_layouts_checked_together_get_the_reports_they_get_alone(plan, seed, cou
     from forcelayout.validate.checks import check_floors
 
     lays = [random_layout(plan, seed + k, reject=False) for k in range(count)]
-    together = check_floors(lays)
+    together = check_floors(lays, access_clearance=True)
     for lay, rep in zip(lays, together, strict=True):
-        alone = check_layout(lay)
+        alone = check_layout(lay, access_clearance=True)
         assert rep.failures == alone.failures and rep.unreachable == alone.unreachable
         assert rep.blocked_by == alone.blocked_by
         assert (rep.free_fraction, rep.navigable_fraction) == (alone.free_fraction,

@@ -951,13 +951,12 @@ class _Placer:
         seen = np.ones((len(cand), len(rows)), dtype=bool) if present is None else present
 
         def blocked(zc, zo, zl, zh, zones):  # zones (..., 2) -> run off the floor or intruded
-            corners = np.stack([zc - zl * zh[..., :1] - zo * zh[..., 1:],
-                                zc + zl * zh[..., :1] - zo * zh[..., 1:],
-                                zc + zl * zh[..., :1] + zo * zh[..., 1:],
-                                zc - zl * zh[..., :1] + zo * zh[..., 1:]], axis=-2)
-            # a corner off the floor (a wall across the zone with every corner on the floor,
-            # at the notch of a U-shaped room, goes unseen: starts only lean)
-            off = ~self.room.contains(corners).all(-1)
+            # a far corner off the floor (the near ones are on the owner's side; a wall across
+            # the zone with its corners on the floor, at the notch of a U-shaped room, goes
+            # unseen: starts only lean)
+            far = zc + zo * zh[..., 1:]
+            off = ~self.room.contains(np.stack([far - zl * zh[..., :1], far + zl * zh[..., :1]],
+                                               axis=-2)).all(-1)
             if not len(rows):
                 return off
             lead = zc.ndim - 2  # axes between the sample axis and the rows
@@ -968,7 +967,9 @@ class _Placer:
             hit = (sep < -_INTRUDE) & ~acc.exempt[zones][:, rows] & seen[at]
             return off | hit.any(-1)
 
-        theirs = np.flatnonzero(np.isin(acc.owner, rows) & ~acc.exempt[:, r])
+        standing = np.zeros(len(half), dtype=bool)
+        standing[rows] = True
+        theirs = np.flatnonzero(standing[acc.owner] & ~acc.exempt[:, r])
         if len(theirs):  # placed objects' zones the candidate would stand in
             o = acc.owner[theirs]
             index = {k: i for i, k in enumerate(solid)}

@@ -247,8 +247,8 @@ def test_invalid_parameters_raise_with_the_name():
 
 def test_layout_check_method_and_check_names():
     assert bedroom().check().ok
-    assert CHECKS == ("collision", "outside", "door", "window", "surface", "navigable",
-                      "reachable")
+    assert CHECKS == ("collision", "outside", "door", "window", "access", "surface",
+                      "navigable", "reachable")
 
 
 def test_occupancy_mask_matches_the_free_cells():

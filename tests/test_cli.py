@@ -245,3 +245,18 @@ def test_generate_access_requires_free_access_zones(tmp_path):
             check_layout(Layout.from_json(f.read_text(), p), access_clearance=True)
             .failed("access") for f in written)
     assert blocked[False] >= 1 and blocked[True] == 0
+
+
+def test_validate_access_reports_blocked_access_zones(tmp_path, capsys):
+    plan = tmp_path / "plan.json"
+    plan.write_text(json.dumps({
+        "name": "wardrobe", "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]]},
+        "objects": [{"id": "wardrobe", "category": "wardrobe", "size": [1.0, 0.6, 2.0]},
+                    {"id": "box", "category": "box", "size": [0.6, 0.6, 0.5]}],
+        "rules": []}))
+    lay = tmp_path / "lay.json"
+    lay.write_text(json.dumps({"plan": "wardrobe", "objects": {
+        "wardrobe": {"x": 1.5, "y": 0.3, "yaw": 0.0}, "box": {"x": 1.5, "y": 1.0, "yaw": 0.0}}}))
+    assert main(["validate", str(plan), str(lay)]) == 0
+    assert main(["validate", str(plan), str(lay), "--access"]) == 1
+    assert "access: 'wardrobe' has no free side" in capsys.readouterr().out

@@ -94,7 +94,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
             print(f"{path}: not a layout of plan {plan.name!r}: {e}", file=sys.stderr)
             bad += 1
             continue
-        rep = check_layout(lay)
+        rep = check_layout(lay, access_clearance=args.access)
         sat = lay.rule_satisfaction
         status = "ok" if rep.ok else "FAIL"
         print(f"{path}: {status}  rules met {sat:.0%}")
@@ -187,6 +187,9 @@ def build_parser() -> argparse.ArgumentParser:
     v = sub.add_parser("validate", help="validate a plan, and layouts of it if given")
     v.add_argument("plan")
     v.add_argument("layouts", nargs="*", type=Path)
+    v.add_argument("--access", action="store_true",
+                   help="also check that every object's access zone is free (as "
+                        "generate --access requires)")
     v.set_defaults(func=_cmd_validate)
 
     d = sub.add_parser("render", help="draw layout JSON files top-down")

@@ -547,9 +547,9 @@ def test_access_check_needs_one_free_side_of_each_object():
     assert not [f for f in check_layout(lay).failures if f.startswith("access")]  # opt-in
     rep = check_layout(lay, access_clearance=True)
     lines = rep.by_check()["access"]
-    assert any("'wardrobe'" in f and "front blocked by 'box'" in f for f in lines)
-    assert any("'bed'" in f and "left blocked by the wall" in f and "right blocked by 'box'"
-               in f for f in lines)
+    assert any("'wardrobe'" in f and "front (0.60 m deep) blocked by 'box'" in f for f in lines)
+    assert any("'bed'" in f and "left (0.50 m deep) blocked by the wall" in f
+               and "right (0.50 m deep) blocked by 'box'" in f for f in lines)
     assert rep.failed("access")
     # the box out of the way: the wardrobe's front and the bed's right side are free; the
     # bed's corner in the wardrobe's zone is no block, unless max_access_overlap is smaller
@@ -557,7 +557,8 @@ def test_access_check_needs_one_free_side_of_each_object():
     assert not check_layout(clear, access_clearance=True).failed("access")
     tight = check_layout(clear, access_clearance=True, max_access_overlap=0.01)
     assert tight.by_check()["access"] == [
-        "'wardrobe' has no free side to be used from (front blocked by 'bed' (0.08 m²))"]
+        "'wardrobe' has no free side to be used from (front (0.60 m deep) blocked by 'bed' "
+        "(0.08 m²))"]
 
 
 def test_access_check_lets_related_objects_stand_in_a_zone():
@@ -568,5 +569,24 @@ def test_access_check_lets_related_objects_stand_in_a_zone():
     # the free floor starts behind the box: the wardrobe's zone is the box deeper
     lay = Layout(plan, {"wardrobe": Pose(1.5, 0.3, 0.0), "box": Pose(1.5, 1.0, 0.0),
                         "bed": Pose(1.5, 2.3, 0.5 * math.pi)})
-    assert any("'wardrobe'" in f and "front blocked by 'bed'" in f
+    assert any("'wardrobe'" in f and "front (1.20 m deep) blocked by 'bed'" in f
                for f in check_layout(lay, access_clearance=True).failures)
+
+
+@pytest.mark.parametrize("kwargs, says", [
+    ({"max_access_overlap": "0.1"}, "max_access_overlap must be a finite number"),
+    ({"agent_radius": True}, "agent_radius must be a finite number"),
+    ({"access_clearance": "no"}, "access_clearance must be True or False"),
+])
+def test_check_parameters_of_the_wrong_type_name_the_parameter(kwargs, says):
+    with pytest.raises(ValueError, match=says):
+        check_layout(bedroom(), **kwargs)
+
+
+def test_an_unknown_check_parameter_is_refused_before_sampling():
+    import forcelayout as fl
+
+    with pytest.raises(ValueError, match="Did you mean 'access_clearance'"):
+        fl.Options(check_kwargs={"acess_clearance": True})
+    with pytest.raises(ValueError, match="unknown check parameter 'acess_clearance'"):
+        fl.generate("bedroom", 1, check_kwargs={"acess_clearance": True})

@@ -154,3 +154,22 @@ class Options:
                 or self.batch < 1:
             raise ValueError(f"Options.batch must be a whole number >= 1 (samples simulated "
                              f"together), got {self.batch!r}")
+        _check_names(self.check_kwargs)
+
+
+def _check_names(kwargs: dict[str, Any]) -> None:
+    """Refuse a ``check_kwargs`` key that :func:`~forcelayout.validate.check_layout` does
+    not take, before any sampling, saying which it takes."""
+    import difflib
+    import inspect
+
+    from forcelayout.validate.checks import check_layout
+
+    known = [n for n, p in inspect.signature(check_layout).parameters.items()
+             if p.kind is p.KEYWORD_ONLY]
+    for key in kwargs:
+        if key not in known:
+            close = difflib.get_close_matches(str(key), known, n=1)
+            hint = f" Did you mean {close[0]!r}?" if close else ""
+            raise ValueError(f"Options.check_kwargs: unknown check parameter {key!r}.{hint} "
+                             f"The checks take: {', '.join(known)}")

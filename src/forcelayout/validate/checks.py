@@ -147,6 +147,15 @@ def _area(a: float) -> str:
     return f"{a:.2f}" if a >= 0.01 else f"{a:.2g}"
 
 
+def _area_over(a: float, limit: float) -> str:
+    """An area above ``limit``, m², with enough digits to read above it."""
+    for digits in range(2, 7):
+        shown = f"{a:.{digits}f}"
+        if float(shown) > limit:
+            return shown
+    return f"{a:.6g}"
+
+
 def _percents(value: float, need: float) -> tuple[str, str]:
     """``value`` and ``need`` as percentages, with enough digits to show ``value < need``."""
     shown_need = f"{100 * need:.6g}"
@@ -164,6 +173,9 @@ def _polygons(corners: np.ndarray) -> np.ndarray:
 
 
 def _check_positive(name: str, value: float, *, allow_zero: bool = True) -> None:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
+        need = ">= 0" if allow_zero else "> 0"
+        raise ValueError(f"check_layout: {name} must be a finite number {need}, got {value!r}")
     ok = np.isfinite(value) and (value >= 0 if allow_zero else value > 0)
     if not ok:
         need = ">= 0" if allow_zero else "> 0"
@@ -278,6 +290,10 @@ def check_floors(
     _check_positive("reach", reach)
     _check_positive("max_overlap", max_overlap)
     _check_positive("max_access_overlap", max_access_overlap)
+    for name, flag in (("door_clearance", door_clearance), ("window_clearance", window_clearance),
+                       ("wall_band", wall_band), ("access_clearance", access_clearance)):
+        if not isinstance(flag, (bool, np.bool_)):
+            raise ValueError(f"check_layout: {name} must be True or False, got {flag!r}")
     if not 0.0 <= min_free_fraction <= 1.0:
         raise ValueError(f"check_layout: min_free_fraction must lie in [0, 1], "
                          f"got {min_free_fraction!r}")
@@ -623,17 +639,17 @@ def _access(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
             area = shapely.area(shapely.intersection(polys(b, solid[s]), squares[z]))
             for zz, ss, a in zip(z.tolist(), s.tolist(), area.tolist(), strict=True):
                 if a > limit:
-                    why[zz].append(f"{ids[solid[ss]]!r} ({_area(a)} m²)")
+                    why[zz].append(f"{ids[solid[ss]]!r} ({_area_over(a, limit)} m²)")
         for zz in np.flatnonzero(~on_floor[b]).tolist():
             a = float(shapely.area(shapely.difference(squares[zz], layout.room.shape)))
             if a > limit:
-                why[zz].append(f"the wall ({_area(a)} m² off the floor)")
+                why[zz].append(f"the wall ({_area_over(a, limit)} m² off the floor)")
         lines = []
         for u in dict.fromkeys(o.tolist()):
             mine = np.flatnonzero(o == u).tolist()
             if all(why[zz] for zz in mine):
-                sides = "; ".join(f"{zones.sides[zz]} blocked by {', '.join(why[zz])}"
-                                  for zz in mine)
+                sides = "; ".join(f"{zones.sides[zz]} ({zones.depth[zz]:.2f} m deep) blocked "
+                                  f"by {', '.join(why[zz])}" for zz in mine)
                 lines.append(f"access: {ids[u]!r} has no free side to be used from ({sides})")
         out.append(lines)
     return out

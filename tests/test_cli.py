@@ -174,16 +174,28 @@ def test_a_short_generate_run_hints_at_max_attempts(tmp_path, capsys):
                      r".*--max-attempts \d+", hints[0])
 
 
-def test_generate_replaces_an_earlier_run_and_keeps_other_files(tmp_path):
+def test_generate_replaces_an_earlier_run_and_keeps_other_files(tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["generate", "home_office", "-n", "2", "--out", str(out), "--quiet",
                  "--format", "none"]) == 0
     (out / "notes.txt").write_text("mine")
+    # another plan's run is kept unless --overwrite says to replace it
+    capsys.readouterr()
     assert main(["generate", "bedroom", "-n", "1", "--out", str(out), "--quiet",
-                 "--format", "none"]) == 0
+                 "--format", "none"]) == 2
+    err = capsys.readouterr().err
+    assert "holds 2 layouts of plan 'home_office'" in err and "--overwrite" in err
+    assert len(list(out.glob("home_office_*.json"))) == 2
+    assert main(["generate", "bedroom", "-n", "1", "--out", str(out), "--quiet",
+                 "--format", "none", "--overwrite"]) == 0
+    assert "replaced 2 layouts of plan 'home_office'" in capsys.readouterr().err
     assert sorted(p.name for p in out.iterdir()) == [
         "bedroom_000.json", "notes.txt", "plan.json", "summary.json"]
     assert json.loads((out / "plan.json").read_text())["name"] == "bedroom"
+    # the same plan again: replaced, and said
+    assert main(["generate", "bedroom", "-n", "1", "--out", str(out), "--quiet",
+                 "--format", "none"]) == 0
+    assert "replaced 1 layout of plan 'bedroom'" in capsys.readouterr().err
 
 
 def test_generate_writes_each_layout_as_it_is_accepted(tmp_path, monkeypatch, capsys):

@@ -159,7 +159,8 @@ def test_run_generate_plans_from_a_prompt_once(tmp_path):
     args = argparse.Namespace(
         prompt="a student's bedroom", replay=RECORDING, record=None, plan=None,
         out=tmp_path / "out", n=1, seed=0, workers=1, max_attempts=None, format="none",
-        no_relations=False, no_decor=True, access=False, quiet=True)
+        no_relations=False, no_decor=True, access=False, overwrite=False,
+        quiet=True)
     assert run_generate(args) == 0
     assert Plan.load(tmp_path / "out" / "plan.json").name == "student_bedroom"
     assert len(list((tmp_path / "out").glob("student_bedroom_*.json"))) == 1

@@ -159,6 +159,9 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--no-relations", action="store_true", help="ablation: no relation forces")
     g.add_argument("--no-decor", action="store_true", help="ablation: drop decor objects")
     g.add_argument("--access", action="store_true", help=ACCESS_HELP)
+    g.add_argument("--overwrite", action="store_true",
+                   help="replace the layouts of another plan that an earlier run wrote to --out "
+                        "(an earlier run of the same plan is always replaced)")
     g.add_argument("--quiet", action="store_true", help="no progress bar")
     g.add_argument("--assets", type=Path, default=None, metavar="DIR",
                    help="ground the plan to this asset library first: each object gets a mesh, "

@@ -31,6 +31,7 @@ from pathlib import Path
 
 from forcelayout.dataset import layout_stem
 from forcelayout.diagnose import FewLayoutsWarning, feasibility_warnings_as_lines
+from forcelayout.errors import InputError
 from forcelayout.layout import Layout
 from forcelayout.plan import Plan
 from forcelayout.sampling import Options, generate, process_pool, stop_executor
@@ -50,18 +51,26 @@ def _plan_from_args(args: argparse.Namespace) -> Plan:
     return load_plan(args.plan)
 
 
-def _remove_earlier_run(out: Path) -> None:
-    """Remove the files an earlier ``generate`` run wrote to ``out`` (nothing else)."""
+def _remove_earlier_run(out: Path, name: str, overwrite: bool) -> None:
+    """Remove the files an earlier ``generate`` run wrote to ``out`` (nothing else), saying
+    so; the run of another plan only with ``overwrite``."""
     try:
         old = json.loads((out / "plan.json").read_text(encoding="utf-8"))["name"]
     except (OSError, ValueError, KeyError, TypeError):
         return
-    for path in out.glob(f"{glob.escape(old)}_*"):
-        stem = path.stem[len(old) + 1:]
-        if stem.isdigit() and path.suffix in (".json", ".png", ".svg"):
-            path.unlink()
-    for name in ("plan.json", "summary.json"):
-        (out / name).unlink(missing_ok=True)
+    files = [path for path in out.glob(f"{glob.escape(old)}_*")
+             if path.stem[len(old) + 1:].isdigit() and path.suffix in (".json", ".png", ".svg")]
+    layouts = sum(path.suffix == ".json" for path in files)
+    some = f"{layouts} layout{'' if layouts == 1 else 's'} of plan {old!r}"
+    if old != name and not overwrite:
+        raise InputError(f"{out} holds {some} from an earlier run; give another --out, or "
+                         f"--overwrite to replace them")
+    for path in files:
+        path.unlink()
+    for kept in ("plan.json", "summary.json"):
+        (out / kept).unlink(missing_ok=True)
+    if layouts:
+        print(f"replaced {some} an earlier run wrote to {out}", file=sys.stderr, flush=True)
 
 
 def _draw(layout: Layout, path: Path) -> None:
@@ -83,7 +92,7 @@ def run_generate(args: argparse.Namespace) -> int:
             print(f"warning: {finding}", file=sys.stderr, flush=True)
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
-    _remove_earlier_run(out)
+    _remove_earlier_run(out, plan.name, args.overwrite)
     (out / "plan.json").write_text(plan.to_json(), encoding="utf-8")
     written: list[Path] = []
     executor: Executor | None = process_pool(args.workers) if args.workers > 1 else None

@@ -264,3 +264,19 @@ def test_a_size_of_the_wrong_shape_says_what_a_size_is(size):
     k = len(data["objects"]) - 1
     with pytest.raises(PlanError, match=rf"objects\[{k}\]\.size.*\[width, depth, height\]"):
         Plan.from_dict(data)
+
+
+@pytest.mark.parametrize("access, says", [
+    ({"sides": ["frontt"]}, "objects[0].access: sides.0: Input should be 'front'"),
+    ("front", "got 'front'"),
+])
+def test_a_bad_access_is_one_problem_that_shows_its_shape(access, says):
+    data = plan_with(objects__0__access=access)
+    (p,) = problems(data)
+    assert p.path == "objects[0].access" and says in f"{p.path}: {p.message}"
+    assert '{"sides": ["front", ...], "depth": metres}' in p.message
+
+
+def test_access_true_is_the_category_default():
+    plan = Plan.model_validate(plan_with(objects__0__access=True))
+    assert plan.objects[0].access is None

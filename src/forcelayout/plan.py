@@ -163,7 +163,7 @@ class SceneObject(_Model):
     access: ObjectAccess | Literal[False] | None = Field(None, description=(
         "Free floor kept clear beside the object so a person can use it: None = the default "
         "of its category (front of a wardrobe, desk, sofa, fridge; a long side of a bed; "
-        "see forcelayout.access), false = none."))
+        "see forcelayout.access), also true; false = none."))
     asset: str | None = Field(None, min_length=1, description=(
         "Id of the asset (mesh) this object was grounded to, in an asset library's "
         "assets.json (see forcelayout.grounding); None = a box."))
@@ -172,6 +172,26 @@ class SceneObject(_Model):
         "Convex footprint polygon [[x, y], ...] in the object's frame (metres, front +y, "
         "inside the size's [w, d] box), used as the object's Box2D fixture instead of the "
         "rectangle; None = the rectangle. Checks and pictures still use the rectangle."))
+
+    @field_validator("access", mode="before")
+    @classmethod
+    def _one_access(cls, v: Any) -> Any:
+        """One clear message for a bad ``access`` (not one per form it may take); ``true``
+        is the category's default, as ``null``."""
+        shape = ('access is {"sides": ["front", ...], "depth": metres}, false for none, or '
+                 'true or null for the default of its category')
+        if v is None or v is False or isinstance(v, ObjectAccess):
+            return v
+        if v is True:
+            return None
+        if isinstance(v, dict):
+            try:
+                return ObjectAccess.model_validate(v)
+            except ValidationError as e:
+                what = "; ".join(f"{'.'.join(map(str, err['loc']))}: {err['msg']}"
+                                 for err in e.errors())
+                raise ValueError(f"{what} ({shape})") from None
+        raise ValueError(f"{shape}; got {v!r}")
 
     @field_validator("footprint")
     @classmethod

@@ -272,3 +272,8 @@ def test_validate_access_reports_blocked_access_zones(tmp_path, capsys):
     assert main(["validate", str(plan), str(lay)]) == 0
     assert main(["validate", str(plan), str(lay), "--access"]) == 1
     assert "access: 'wardrobe' has no free side" in capsys.readouterr().out
+    # a missing file is reported with the others, not the end of the command
+    assert main(["validate", str(plan), str(tmp_path / "gone.json"), str(lay)]) == 1
+    out, err = capsys.readouterr()
+    assert "gone.json: cannot be read: No such file or directory" in err
+    assert f"{lay}: ok" in out

@@ -90,6 +90,10 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     for path in args.layouts:
         try:
             lay = Layout.load(path, plan)
+        except OSError as e:
+            print(f"{path}: cannot be read: {e.strerror or e}", file=sys.stderr)
+            bad += 1
+            continue
         except (ValueError, KeyError, TypeError) as e:
             print(f"{path}: not a layout of plan {plan.name!r}: {e}", file=sys.stderr)
             bad += 1

@@ -376,3 +376,18 @@ def test_rules_of_many_layouts_are_judged_as_one_by_one():
         assert any(ok is False for _, ok in want[5]) and any(ok is None for _, ok in want[6])
     finally:
         rules.unregister(FarFromDoorAlone.name)
+
+
+def test_failure_reasons_count_samples_not_lines():
+    """A sample with three collisions counts once under collision (the command line's
+    rejections read 'collision x1', not x3)."""
+    from forcelayout.layout import SampleReport
+    from forcelayout.sampling import Generation
+
+    plan = fl.load_plan("bedroom")
+    reports = [SampleReport(seed=1, valid=False, failures=[
+        "collision: 'a' and 'b' overlap", "collision: 'c' and 'd' overlap",
+        "collision: 'e' and 'f' overlap", "door: 'a' blocks the swing area of door 0"]),
+        SampleReport(seed=2, valid=False, failures=["collision: 'a' and 'b' overlap"])]
+    gen = Generation(plan=plan, seed=0, layouts=[], reports=reports, seconds=1.0, wanted=1)
+    assert gen.summary()["failure_reasons"] == {"collision": 2, "door": 1}

@@ -330,7 +330,8 @@ class Generation:
         return [r for r in self.reports if r.seed not in accepted]
 
     def summary(self) -> Summary:
-        """Counts, rates, timing and the most common failure reasons.
+        """Counts, rates, timing and the most common failure reasons (``failure_reasons``:
+        how many rejected samples failed each check or rule, a sample once under each).
 
         Returns
         -------
@@ -340,9 +341,10 @@ class Generation:
         """
         reasons: dict[str, int] = {}
         for r in self.rejected:
-            # a valid sample beyond the n wanted (drawn in the same wave) failed nothing
-            for f in r.failures or ["surplus: valid, beyond the layouts wanted"]:
-                key = f.split(":")[0]
+            # a valid sample beyond the n wanted (drawn in the same wave) failed nothing;
+            # a sample counts once under each reason, however many lines it failed by
+            for key in dict.fromkeys(f.split(":")[0] for f in r.failures
+                                     or ["surplus: valid, beyond the layouts wanted"]):
                 reasons[key] = reasons.get(key, 0) + 1
         valid = sum(r.valid for r in self.reports)
         return Summary({

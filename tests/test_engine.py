@@ -302,3 +302,30 @@ def test_no_built_in_rule_names_outside_the_rules_package():
                     and node.value in names and id(node) not in docstrings:
                 offenders.append(f"{rel}:{node.lineno} {node.value!r}")
     assert not offenders, offenders
+
+
+def test_a_rule_group_judges_every_sample_of_a_stacked_state_as_each_alone():
+    """RuleGroup.satisfied_stacked: one call for all samples, the verdicts of each alone,
+    for a batched rule and for one that is judged sample by sample."""
+    import numpy as np
+
+    from forcelayout.bindings import group_bindings
+    from forcelayout.forces import ForceModel
+    from forcelayout.initial import initial_poses
+
+    model = ForceModel(fl.load_plan("bedroom"))
+    starts = [initial_poses(model, np.random.default_rng(s)) for s in range(3)]
+    alone = [model.state(p, y) for p, y in starts]
+    stacked = model.stacked(3).state(np.concatenate([p for p, _ in starts]),
+                                     np.concatenate([y for _, y in starts]))
+    row = {oid: k for k, oid in enumerate(model.ids)}
+    for g in group_bindings(model.bindings, row):
+        for batched in (True, False):
+            g.rule.batched, was = batched, g.rule.batched
+            try:
+                got = g.satisfied_stacked(stacked)
+            finally:
+                g.rule.batched = was
+            assert got.shape == (3, len(g.i))
+            for b, st in enumerate(alone):
+                assert np.array_equal(got[b], g.satisfied(st))

@@ -139,6 +139,18 @@ class RuleGroup:
         """The rule's own check of every binding of the group, shape (B,) of bool."""
         return np.asarray(self.rule.satisfied(state, self.i, self.j, self.params), dtype=bool)
 
+    def satisfied_stacked(self, state: State, stacked: RuleGroup | None = None) -> np.ndarray:
+        """The rule's own check of every binding in every sample of a stacked state, shape
+        (samples, B) of bool. ``stacked`` is the group as stacked for that state (made with
+        :meth:`stack` when not given); a rule that is not ``batched`` is judged once per
+        sample on that sample's state."""
+        n = state.samples
+        if not self.rule.batched:
+            return np.stack([self.satisfied(state.sample(b)) for b in range(n)])
+        s = stacked if stacked is not None else self.stack(n, state.rows)
+        ok = np.asarray(self.rule.satisfied(state, s.i, s.j, s.params), dtype=bool)
+        return ok.reshape(n, len(self.i))
+
 
 def group_bindings(bindings: Iterable[Binding], row: Mapping[str, int]) -> list[RuleGroup]:
     """Group bindings by rule into index arrays over the rows ``row[id]``.

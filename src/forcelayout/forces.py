@@ -508,16 +508,10 @@ class StackedForces:
         """As :meth:`ForceModel.satisfied`, for every stacked sample: ``{k: met}`` with
         ``met`` of shape (samples,); a rule that is not ``batched`` is judged once per
         sample on that sample's state."""
-        n = self.samples
         # the model's rule groups as stacked for the forces
         rules = next(t for src, t in zip(self.source, self.terms, strict=True)
                      if src is self.model.rules)
         out: dict[int, np.ndarray] = {}
         for g, s in zip(self.model.groups, rules.groups, strict=True):
-            if g.rule.batched:
-                ok = np.asarray(g.rule.satisfied(state, s.i, s.j, s.params), dtype=bool)
-                ok = ok.reshape(n, len(g.i))
-            else:  # a rule that sees one sample at a time
-                ok = np.stack([g.satisfied(state.sample(b)) for b in range(n)])
-            out.update(zip(g.position.tolist(), ok.T, strict=True))
+            out.update(zip(g.position.tolist(), g.satisfied_stacked(state, s).T, strict=True))
         return out

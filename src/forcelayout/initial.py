@@ -945,9 +945,7 @@ class _Placer:
         if acc is None or self.walkable[r] or not (len(solid) or (acc.owner == r).any()):
             return misses
         rows = np.array(solid, dtype=int)
-        oy = yaw[:, rows]
-        s_rgt = np.stack([np.cos(oy), np.sin(oy)], axis=-1)  # (B, S, 2)
-        s_fwd = np.stack([-s_rgt[..., 1], s_rgt[..., 0]], axis=-1)
+        s_rgt, s_fwd = geo.right_vectors(yaw[:, rows]), geo.front_vectors(yaw[:, rows])
         seen = np.ones((len(cand), len(rows)), dtype=bool) if present is None else present
 
         def blocked(zc, zo, zl, zh, zones):  # zones (..., 2) -> run off the floor or intruded

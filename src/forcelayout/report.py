@@ -58,7 +58,7 @@ def judge_rules_many(layouts: Sequence[Layout]) -> list[list[RuleResult]]:
             continue
         plan = layouts[ks[0]].plan
         states = [layout_state(layouts[k]) for k in ks]
-        nb, rows = len(states), len(ids)
+        nb = len(states)
         first = states[0]
         stacked = State(np.concatenate([s.pos for s in states]).reshape(-1, 2),
                         np.concatenate([s.yaw for s in states]),
@@ -68,16 +68,9 @@ def judge_rules_many(layouts: Sequence[Layout]) -> list[list[RuleResult]]:
         row = {oid: r for r, oid in enumerate(ids)}
         met: dict[int, np.ndarray] = {}
         for g in group_bindings(compile_plan(plan).judged(ids), row):
-            if g.rule.batched:
-                big = g.stack(nb, rows)
-                ok = np.asarray(g.rule.satisfied(stacked, big.i, big.j, big.params), dtype=bool)
-                ok = ok.reshape(nb, len(g.i))
-            else:  # a rule that sees one layout at a time
-                ok = np.stack([g.satisfied(stacked.sample(b)) for b in range(nb)])
-            met.update(zip(g.index.tolist(), ok.T, strict=True))
+            met.update(zip(g.index.tolist(), g.satisfied_stacked(stacked).T, strict=True))
         for b, k in enumerate(ks):
             out[k] = [RuleResult(q, s.rule, s.object, s.target,
                                  bool(met[q][b]) if q in met else None)
                       for q, s in enumerate(plan.rules)]
     return out  # type: ignore[return-value]
-

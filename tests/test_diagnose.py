@@ -92,6 +92,15 @@ def test_a_long_object_across_a_narrow_room_is_tight():
     assert f.largest == "sofa" and f.largest_size == (2.3, 0.9)
     assert f.room_span == pytest.approx((2.4, 3.0))
     assert f.verdict == "tight" and "'sofa'" in f.notes[0]
+    assert "along the long walls" in f.notes[0]
+
+
+def test_a_long_object_in_a_square_room_is_tight_both_ways():
+    square = [[0, 0], [2.5, 0], [2.5, 2.5], [0, 2.5]]
+    plan = room_plan([{"id": "bed", "category": "bed", "size": [2.3, 0.9, 0.5]}], [],
+                     polygon=square)
+    note = next(n for n in feasibility(plan).notes if "bed" in n)
+    assert "'bed'" in note and "long walls" not in note and "at either heading" in note
 
 
 def test_feasibility_rejects_bad_parameters():

@@ -348,7 +348,12 @@ def feasibility(
                      "the wall without doors and windows")
     if largest is not None and largest.id not in misfits:
         long_side = max(largest.size[:2])
-        if long_side > _TIGHT_SPAN * span[0]:
+        if long_side > _TIGHT_SPAN * span[1]:  # both ways (a square room has no long walls)
+            tight.append(f"{largest.id!r} ({long_side:g} m long) spans "
+                         f"{long_side / span[0]:.0%} of the room's width ({span[0]:.2f} m) "
+                         f"and {long_side / span[1]:.0%} of its length ({span[1]:.2f} m); "
+                         "at either heading little floor is left beside its ends")
+        elif long_side > _TIGHT_SPAN * span[0]:
             tight.append(f"{largest.id!r} ({long_side:g} m long) spans "
                          f"{long_side / span[0]:.0%} of the room's short side "
                          f"({span[0]:.2f} m); it can only lie along the long walls")

@@ -259,6 +259,16 @@ def test_generate_access_requires_free_access_zones(tmp_path):
     assert blocked[False] >= 1 and blocked[True] == 0
 
 
+def test_generate_access_draws_the_access_zones(tmp_path):
+    plan = Path(__file__).resolve().parents[1] / "benchmarks/plans/bedroom_small_single_3x3.json"
+    for flag in ([], ["--access"]):
+        out = tmp_path / f"out{len(flag)}"
+        assert main(["generate", str(plan), "-n", "1", "--out", str(out), "--quiet",
+                     "--format", "svg", *flag]) == 0
+        (svg,) = out.glob("*.svg")
+        assert ('id="access:bed:' in svg.read_text()) == bool(flag)
+
+
 def test_validate_access_reports_blocked_access_zones(tmp_path, capsys):
     plan = tmp_path / "plan.json"
     plan.write_text(json.dumps({

@@ -6,6 +6,7 @@ import math
 import xml.etree.ElementTree as ET
 
 import pytest
+from matplotlib.colors import to_rgba
 from matplotlib.figure import Figure
 
 from forcelayout import Layout, Plan, Pose
@@ -126,3 +127,22 @@ def test_walkable_covers_are_drawn_first_and_hatched():
     assert cover.get_hatch() == "//" and cover.get_facecolor()[3] < 0.5
     assert cover.get_zorder() < bed.get_zorder()
     assert check_layout(lay).ok  # the bed stands on the rug: no collision
+
+
+def test_access_zones_are_drawn_and_red_where_the_check_finds_none_free():
+    def zones(lay):
+        fig = draw_layout(lay, show_access=True)
+        return {p.get_gid(): p for p in fig.axes[0].patches
+                if (p.get_gid() or "").startswith("access:")}
+
+    red = to_rgba("#d62728")[:3]
+    # the chair stands in the desk's front zone, unrelated to it: the desk has no free side
+    blocked = zones(layout())
+    assert set(blocked) == {"access:bed:left", "access:bed:right", "access:desk:front"}
+    assert tuple(blocked["access:desk:front"].get_edgecolor()[:3]) == pytest.approx(red)
+    free = zones(layout(chair=Pose(1.8, 0.5, 0.0)))
+    assert tuple(free["access:desk:front"].get_edgecolor()[:3]) != pytest.approx(red)
+    assert tuple(free["access:bed:left"].get_edgecolor()[:3]) == pytest.approx(red)
+    assert "access zone" in layout_svg(layout(), show_access=True)
+    plain = draw_layout(layout())
+    assert not [p for p in plain.axes[0].patches if (p.get_gid() or "").startswith("access:")]

@@ -7,6 +7,7 @@ import re
 
 import numpy as np
 import pytest
+import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -559,6 +560,26 @@ def test_access_check_needs_one_free_side_of_each_object():
     assert tight.by_check()["access"] == [
         "'wardrobe' has no free side to be used from (front (0.60 m deep) blocked by 'bed' "
         "(0.08 m²))"]
+
+
+def test_layout_zones_lie_beside_the_sides_they_serve():
+    from forcelayout.access import layout_zones
+
+    plan = Plan.from_dict({**ACCESS_PLAN.model_dump(), "rules": [
+        {"rule": "in_front_of", "object": "box", "target": "wardrobe"}]})
+    lay = Layout(plan, {"wardrobe": Pose(1.5, 0.3, 0.0), "box": Pose(1.5, 1.0, 0.0),
+                        "bed": Pose(0.7, 2.0, 0.5 * math.pi)})
+    zones = {(oid, side): c for oid, side, c in layout_zones(lay)}
+    assert set(zones) == {("wardrobe", "front"), ("bed", "left"), ("bed", "right")}
+    # the wardrobe's front zone: as wide as the wardrobe, deeper by the box in front of it
+    lo, hi = zones["wardrobe", "front"].min(0), zones["wardrobe", "front"].max(0)
+    np.testing.assert_allclose([lo, hi], [[1.0, 0.6], [2.0, 1.8]], atol=1e-9)
+    # the bed turned a quarter: its long sides face -y and +y, 0.5 m deep, 2 m long
+    for side in ("left", "right"):
+        c = zones["bed", side]
+        assert shapely.Polygon(c).area == pytest.approx(2.0 * 0.5)
+        assert shapely.Polygon(c).distance(shapely.Polygon(lay.corners("bed"))) < 1e-9
+        assert shapely.Polygon(c).intersection(shapely.Polygon(lay.corners("bed"))).area < 1e-9
 
 
 def test_access_check_lets_related_objects_stand_in_a_zone():

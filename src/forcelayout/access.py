@@ -27,17 +27,21 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from forcelayout import geometry as geo
-from forcelayout.bindings import Binding
+from forcelayout.bindings import Binding, compile_plan
 from forcelayout.clearance import push_out
 from forcelayout.plan import SceneObject
 from forcelayout.rules.base import Access, State, stacked_rows
 
+if TYPE_CHECKING:
+    from forcelayout.layout import Layout
+
 __all__ = ["CATEGORY_ACCESS", "access_of", "access_zones", "AccessZones", "zone_boxes",
-           "AccessTerm", "access_term"]
+           "related_pairs", "layout_zones", "AccessTerm", "access_term"]
 
 _FRONT = ("front",)
 _LONG_SIDES = ("left", "right")
@@ -271,6 +275,73 @@ class AccessZones:
     depth: np.ndarray
     exempt: np.ndarray
     sides: tuple[str, ...]
+
+
+def related_pairs(ids: Sequence[str], bindings: Sequence[Binding]) -> np.ndarray:
+    """Which rows a rule relates (either way round): they do not block each other's zones.
+
+    Parameters
+    ----------
+    ids : sequence of str
+        The object of each row.
+    bindings : sequence of Binding
+
+    Returns
+    -------
+    ndarray of bool, shape (N, N)
+    """
+    row = {oid: k for k, oid in enumerate(ids)}
+    related = np.zeros((len(ids), len(ids)), dtype=bool)
+    for b in bindings:
+        if b.object in row and b.target in row:
+            related[row[b.object], row[b.target]] = related[row[b.target], row[b.object]] = True
+    return related
+
+
+def layout_zones(layout: Layout) -> list[tuple[str, str, np.ndarray]]:
+    """The access zones of a layout's floor objects at their poses.
+
+    The zones the ``access`` check keeps free (:func:`access_zones`): a
+    rectangle in front of each side an object is used from, as wide as the
+    side and as deep as its access asks (deeper by an object a rule stands
+    in front of it, the chair at the desk).
+
+    Parameters
+    ----------
+    layout : Layout
+
+    Returns
+    -------
+    list of (str, str, ndarray)
+        Per zone: the object's id, the side (``"front"``, ``"left"``, ...) and
+        the zone's corners, shape (4, 2), metres.
+
+    Examples
+    --------
+    >>> import forcelayout as fl
+    >>> from forcelayout.access import layout_zones
+    >>> lay = fl.solve(fl.examples.load_example("bedroom"), seed=0)
+    >>> sorted({oid for oid, _, _ in layout_zones(lay)})
+    ['bed', 'desk', 'dresser', 'wardrobe']
+    """
+    plan = layout.plan
+    ids = [oid for oid in layout.ids() if layout.poses[oid].surface == "floor"]
+    objects = {o.id: o for o in plan.objects}
+    bindings = compile_plan(plan).bindings
+    walkable = np.array([objects[oid].is_walkable for oid in ids], dtype=bool)
+    zones = access_zones(objects, ids, bindings, walkable, related_pairs(ids, bindings))
+    if zones is None:
+        return []
+    o = zones.owner
+    poses = [layout.poses[ids[r]] for r in o.tolist()]
+    yaw = np.array([p.yaw for p in poses], dtype=float)
+    pos = np.array([[p.x, p.y] for p in poses], dtype=float)
+    half = 0.5 * np.array([objects[ids[r]].size[:2] for r in o.tolist()], dtype=float)
+    centre, out, lateral, zh = zone_boxes(pos, geo.right_vectors(yaw), geo.front_vectors(yaw),
+                                          half, zones.direction, zones.depth)
+    corners = geo.corners_from_axes(centre, lateral, out, zh)
+    return [(ids[r], side, c) for r, side, c in zip(o.tolist(), zones.sides, corners,
+                                                    strict=True)]
 
 
 def access_term(plan_objects: dict[str, SceneObject], ids: Sequence[str],

@@ -26,8 +26,8 @@ OPTIONAL_COMMANDS = [("forcelayout.llm.cli", "llm", ["plan"]),
 
 #: Help of the ``--access`` option of ``generate`` and ``dataset``.
 ACCESS_HELP = ("require every object's access zone to be free (the front of a wardrobe, "
-               "counter or fridge, a long side of a bed: see docs/concepts.md); the layouts "
-               "otherwise only lean that way")
+               "counter or fridge, a long side of a bed: see docs/concepts.md) and draw the "
+               "zones in the pictures; the layouts otherwise only lean that way")
 
 
 def _cmd_generate(args: argparse.Namespace) -> int:

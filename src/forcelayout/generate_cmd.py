@@ -73,9 +73,10 @@ def _remove_earlier_run(out: Path, name: str, overwrite: bool) -> None:
         print(f"replaced {some} an earlier run wrote to {out}", file=sys.stderr, flush=True)
 
 
-def _draw(layout: Layout, path: Path) -> None:
-    """Write one layout's picture (in the main process or a worker)."""
-    layout.picture(path)
+def _draw(layout: Layout, path: Path, access: bool = False) -> None:
+    """Write one layout's picture (in the main process or a worker), with its access
+    zones when the run keeps them free."""
+    layout.picture(path, show_access=access)
 
 
 def run_generate(args: argparse.Namespace) -> int:
@@ -104,9 +105,9 @@ def run_generate(args: argparse.Namespace) -> int:
         if args.format != "none":
             picture = stem.with_suffix(f".{args.format}")
             if executor is None:
-                _draw(lay, picture)
+                _draw(lay, picture, args.access)
             else:  # in a worker: drawing takes longer than sampling
-                drawing.append(executor.submit(_draw, lay, picture))
+                drawing.append(executor.submit(_draw, lay, picture, args.access))
         written.append(stem)
 
     opts = Options(relations=not args.no_relations, decor=not args.no_decor,

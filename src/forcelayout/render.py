@@ -18,6 +18,8 @@ What a picture shows (room coordinates, metres, equal aspect):
 * objects on top of others (dashed outline), on walls (dash-dot outline)
   and on the ceiling (dotted outline, no fill);
 * optionally the cells free for the agent's centre (``show_free_space``);
+* optionally each object's access zones, dashed (``show_access``), red for an
+  object with none of them free;
 * when the layout fails a check, the failing objects outlined in red and
   the failures listed under the plan.
 """
@@ -35,6 +37,7 @@ import numpy as np
 from matplotlib import colormaps, rc_context
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.colors import to_rgba
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Arc, Patch
@@ -52,6 +55,7 @@ FORMATS = (".png", ".svg", ".pdf")
 
 _WALL = "#2b2b2b"
 _FAIL = "#d62728"
+_ACCESS = "#1f77b4"
 _FLOOR = "#f5f2eb"
 _MAX_GRID = 200  # most layouts drawn in one contact sheet
 
@@ -162,6 +166,18 @@ def _draw_objects(ax: Axes, layout: Layout, labels: bool, failing: set[str]
     return used, cover_keys
 
 
+def _draw_access(ax: Axes, layout: Layout, failures: Sequence[str]) -> None:
+    """Dashed access zones; red for the objects the ``access`` check names."""
+    from forcelayout.access import layout_zones
+
+    blocked = {f.split("'")[1] for f in failures if f.startswith("access:") and "'" in f}
+    for oid, side, c in layout_zones(layout):
+        colour = to_rgba(_FAIL if oid in blocked else _ACCESS)
+        ax.add_patch(PolygonPatch(c, closed=True, facecolor=(*colour[:3], 0.12),
+                                  edgecolor=colour, lw=0.6, ls="--", zorder=2.5,
+                                  gid=f"access:{oid}:{side}"))
+
+
 def _failing_ids(layout: Layout, failures: Sequence[str]) -> set[str]:
     quoted = {m for f in failures for m in re.findall(r"'([^']+)'", f)}
     return quoted & set(layout.poses)
@@ -178,6 +194,7 @@ def draw_layout(
     check: bool = True,
     list_failures: bool = True,
     agent_radius: float = 0.2,
+    show_access: bool = False,
 ) -> Figure:
     """Draw a layout top-down.
 
@@ -202,6 +219,10 @@ def draw_layout(
         the failing objects in red and list the failures (default True).
     agent_radius : float
         Agent radius in metres for the checks and the free-space overlay.
+    show_access : bool
+        Draw each object's access zones (:func:`forcelayout.access.layout_zones`)
+        as dashed outlines, and run the ``access`` check with the others: the
+        zones of an object with none of them free are drawn red.
 
     Returns
     -------
@@ -221,7 +242,8 @@ def draw_layout(
     if check or show_free_space:
         from forcelayout.validate import check_layout
 
-        report = check_layout(layout, agent_radius=agent_radius)
+        report = check_layout(layout, agent_radius=agent_radius,
+                              access_clearance=show_access)
     failures = report.failures if (report is not None and check) else []
 
     _draw_room(ax, layout)
@@ -232,6 +254,8 @@ def draw_layout(
                   vmin=0.0, vmax=2.0, alpha=0.45, interpolation="nearest", zorder=2,
                   extent=(ox, ox + w * report.grid, oy, oy + h * report.grid))
     used, cover_keys = _draw_objects(ax, layout, labels, _failing_ids(layout, failures))
+    if show_access:
+        _draw_access(ax, layout, report.failures if report is not None else [])
 
     pad = 0.25
     ax.set_xlim(xmin - pad, xmax + pad)
@@ -248,6 +272,9 @@ def draw_layout(
         else Patch(facecolor=c, edgecolor=_WALL, lw=0.5, label=k)
         for k, c in used.items()]
     handles.append(Line2D([], [], color=_WALL, lw=2.6, label="front"))
+    if show_access:
+        handles.append(Patch(facecolor=to_rgba(_ACCESS, 0.12), edgecolor=_ACCESS, ls="--",
+                             lw=0.6, label="access zone"))
     if show_free_space:
         handles.append(Patch(facecolor=colormaps["Greens"](0.5), alpha=0.45,
                              label=f"free (agent r={agent_radius:g} m)"))

@@ -604,19 +604,15 @@ def _access(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
             solid: np.ndarray, walk: np.ndarray, layout: Layout, limit: float
             ) -> list[list[str]]:
     """Per floor, a line for each object with every access zone blocked, saying by what."""
-    from forcelayout.access import access_zones, zone_boxes
+    from forcelayout.access import access_zones, related_pairs, zone_boxes
     from forcelayout.bindings import compile_plan
 
     pos, right, front, half = boxes
     nb = len(pos)
     plan = layout.plan
-    row = {oid: k for k, oid in enumerate(ids)}
     bindings = compile_plan(plan).bindings
-    related = np.zeros((len(ids), len(ids)), dtype=bool)
-    for bd in bindings:
-        if bd.object in row and bd.target in row:
-            related[row[bd.object], row[bd.target]] = related[row[bd.target], row[bd.object]] = True
-    zones = access_zones({o.id: o for o in plan.objects}, ids, bindings, walk, related)
+    zones = access_zones({o.id: o for o in plan.objects}, ids, bindings, walk,
+                         related_pairs(ids, bindings))
     if zones is None:
         return [[] for _ in range(nb)]
     o = zones.owner

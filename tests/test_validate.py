@@ -549,17 +549,38 @@ def test_access_check_needs_one_free_side_of_each_object():
     rep = check_layout(lay, access_clearance=True)
     lines = rep.by_check()["access"]
     assert any("'wardrobe'" in f and "front (0.60 m deep) blocked by 'box'" in f for f in lines)
-    assert any("'bed'" in f and "left (0.50 m deep) blocked by the wall" in f
-               and "right (0.50 m deep) blocked by 'box'" in f for f in lines)
+    # the box at the foot of the bed's right side leaves the rest of it to get in from
+    assert not any(f.startswith("'bed'") for f in lines)
+    whole = check_layout(lay, access_clearance=True, access_width=2.0).by_check()["access"]
+    assert any("'bed'" in f and "left (0.50 m deep) blocked by the wall (1.00 m² off the floor)"
+               in f and "right (0.50 m deep) blocked by 'box' (0.12 m²)" in f for f in whole)
     assert rep.failed("access")
     # the box out of the way: the wardrobe's front and the bed's right side are free; the
     # bed's corner in the wardrobe's zone is no block, unless max_access_overlap is smaller
     clear = Layout(ACCESS_PLAN, {"wardrobe": ward, "box": Pose(2.6, 2.6, 0.0), "bed": bed})
     assert not check_layout(clear, access_clearance=True).failed("access")
-    tight = check_layout(clear, access_clearance=True, max_access_overlap=0.01)
+    # ... and a 0.6 m stretch of the wardrobe's front is free of it, unless the whole
+    # front must be
+    assert not check_layout(clear, access_clearance=True, max_access_overlap=0.01).failed(
+        "access")
+    tight = check_layout(clear, access_clearance=True, max_access_overlap=0.01,
+                         access_width=1.0)
     assert tight.by_check()["access"] == [
         "'wardrobe' has no free side to be used from (front (0.60 m deep) blocked by 'bed' "
         "(0.08 m²))"]
+
+
+@pytest.mark.parametrize("width, blocked", [(0.6, False), (0.8, False), (1.0, True), (2.0, True)])
+def test_an_access_zone_is_free_where_a_stretch_a_person_wide_is(width, blocked):
+    # a box in the middle of the bed's free side leaves 0.7 m at either end of it; a stretch
+    # of 0.8 m covers 0.1 m x 0.5 m of the box, within max_access_overlap (0.1 m²)
+    lay = Layout(ACCESS_PLAN, {"bed": Pose(0.7, 2.0, 0.0), "box": Pose(1.65, 2.0, 0.0)})
+    rep = check_layout(lay, access_clearance=True, access_width=width)
+    assert rep.failed("access") == blocked
+    if blocked:
+        assert rep.by_check()["access"] == [
+            "'bed' has no free side to be used from (left (0.50 m deep) blocked by the wall "
+            "(1.00 m² off the floor); right (0.50 m deep) blocked by 'box' (0.30 m²))"]
 
 
 def test_layout_zones_lie_beside_the_sides_they_serve():
@@ -598,10 +619,17 @@ def test_access_check_lets_related_objects_stand_in_a_zone():
     ({"max_access_overlap": "0.1"}, "max_access_overlap must be a finite number"),
     ({"agent_radius": True}, "agent_radius must be a finite number"),
     ({"access_clearance": "no"}, "access_clearance must be True or False"),
+    ({"access_width": 0.0}, "access_width must be a finite number > 0"),
+    ({"min_free_fraction": 1.5}, "min_free_fraction must lie in"),
 ])
 def test_check_parameters_of_the_wrong_type_name_the_parameter(kwargs, says):
+    import forcelayout as fl
+
     with pytest.raises(ValueError, match=says):
         check_layout(bedroom(), **kwargs)
+    # and before any sampling
+    with pytest.raises(ValueError, match=f"Options.check_kwargs: {says}"):
+        fl.Options(check_kwargs=kwargs)
 
 
 def test_an_unknown_check_parameter_is_refused_before_sampling():

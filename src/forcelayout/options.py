@@ -163,7 +163,7 @@ def _check_names(kwargs: dict[str, Any]) -> None:
     import difflib
     import inspect
 
-    from forcelayout.validate.checks import check_layout
+    from forcelayout.validate.checks import check_layout, check_parameters
 
     known = [n for n, p in inspect.signature(check_layout).parameters.items()
              if p.kind is p.KEYWORD_ONLY]
@@ -173,3 +173,7 @@ def _check_names(kwargs: dict[str, Any]) -> None:
             hint = f" Did you mean {close[0]!r}?" if close else ""
             raise ValueError(f"Options.check_kwargs: unknown check parameter {key!r}.{hint} "
                              f"The checks take: {', '.join(known)}")
+    try:
+        check_parameters(**kwargs)
+    except ValueError as e:
+        raise ValueError(f"Options.check_kwargs: {str(e).removeprefix('check_layout: ')}") from None

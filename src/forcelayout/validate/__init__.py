@@ -20,6 +20,7 @@ from forcelayout.validate.checks import (
     CheckReport,
     check_floors,
     check_layout,
+    check_parameters,
     window_zones,
 )
 from forcelayout.validate.loop import (
@@ -37,6 +38,7 @@ from forcelayout.validate.occupancy import RoomGrid, footprint_distance, occupan
 __all__ = [
     "check_layout",
     "check_floors",
+    "check_parameters",
     "CheckReport",
     "CHECKS",
     "occupancy_mask",

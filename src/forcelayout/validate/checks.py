@@ -43,7 +43,7 @@ import contextvars
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import shapely
@@ -64,7 +64,8 @@ if TYPE_CHECKING:
     from forcelayout.layout import Layout
     from forcelayout.plan import Room
 
-__all__ = ["CheckReport", "check_layout", "check_floors", "CHECKS", "window_zones"]
+__all__ = ["CheckReport", "check_layout", "check_floors", "check_parameters", "CHECKS",
+           "window_zones"]
 
 #: Names of the checks, in the order they run.
 CHECKS = ("collision", "outside", "door", "window", "access", "surface", "navigable",
@@ -182,6 +183,40 @@ def _check_positive(name: str, value: float, *, allow_zero: bool = True) -> None
         raise ValueError(f"check_layout: {name} must be a finite number {need}, got {value!r}")
 
 
+def check_parameters(
+    *,
+    agent_radius: float = 0.2,
+    grid: float = 0.05,
+    min_free_fraction: float = 0.3,
+    reach: float = 0.25,
+    max_overlap: float = 1e-4,
+    door_clearance: bool = True,
+    window_clearance: bool = True,
+    wall_band: bool = False,
+    access_clearance: bool = False,
+    max_access_overlap: float = 0.1,
+    access_width: float = 0.6,
+) -> None:
+    """Refuse a parameter of :func:`check_layout` out of range or of the wrong type (a
+    ValueError naming it), as the checks and ``Options.check_kwargs`` do before any
+    sampling."""
+    _check_positive("agent_radius", agent_radius)
+    _check_positive("grid", grid, allow_zero=False)
+    _check_positive("reach", reach)
+    _check_positive("max_overlap", max_overlap)
+    _check_positive("max_access_overlap", max_access_overlap)
+    _check_positive("access_width", access_width, allow_zero=False)
+    for name, flag in (("door_clearance", door_clearance), ("window_clearance", window_clearance),
+                       ("wall_band", wall_band), ("access_clearance", access_clearance)):
+        if not isinstance(flag, (bool, np.bool_)):
+            raise ValueError(f"check_layout: {name} must be True or False, got {flag!r}")
+    if isinstance(min_free_fraction, bool) or not isinstance(min_free_fraction,
+                                                             (int, float, np.number)) \
+            or not 0.0 <= min_free_fraction <= 1.0:
+        raise ValueError(f"check_layout: min_free_fraction must lie in [0, 1], "
+                         f"got {min_free_fraction!r}")
+
+
 def check_layout(
     layout: Layout,
     *,
@@ -195,6 +230,7 @@ def check_layout(
     wall_band: bool = False,
     access_clearance: bool = False,
     max_access_overlap: float = 0.1,
+    access_width: float = 0.6,
 ) -> CheckReport:
     """Run the deterministic checks on a layout.
 
@@ -230,13 +266,19 @@ def check_layout(
         Run the ``access`` check (default False): every object with access
         zones (:mod:`forcelayout.access`: the front of a wardrobe, desk,
         counter or fridge, a long side of a bed) keeps at least one of them
-        free. A zone is blocked when a solid object that no rule relates to
-        its owner covers more than ``max_access_overlap`` of it, or that much
-        of it lies off the floor. The simulation keeps the zones free by a
-        force and by start poses; this check makes it a requirement.
+        free. A zone is free when some stretch of it ``access_width`` wide
+        (the whole side if it is narrower), as deep as the zone, has at most
+        ``max_access_overlap`` covered by solid objects that no rule relates
+        to its owner or lying off the floor: a nightstand at the head of a
+        bed leaves the rest of that side to get in from. The simulation keeps
+        the whole zones free by a force and by start poses; this check makes
+        it a requirement.
     max_access_overlap : float
-        Area of an access zone, m², that may be covered or off the floor
-        before the zone counts as blocked (default 0.1).
+        Area of a stretch of an access zone, m², that may be covered or off
+        the floor before it counts as blocked (default 0.1).
+    access_width : float
+        Width of the free stretch a person needs along a side, metres
+        (default 0.6).
 
     Returns
     -------
@@ -256,7 +298,7 @@ def check_layout(
                         max_overlap=max_overlap, door_clearance=door_clearance,
                         window_clearance=window_clearance, wall_band=wall_band,
                         access_clearance=access_clearance,
-                        max_access_overlap=max_access_overlap)[0]
+                        max_access_overlap=max_access_overlap, access_width=access_width)[0]
 
 
 def check_floors(
@@ -272,6 +314,7 @@ def check_floors(
     wall_band: bool = False,
     access_clearance: bool = False,
     max_access_overlap: float = 0.1,
+    access_width: float = 0.6,
 ) -> list[CheckReport]:
     """:func:`check_layout` for many layouts, the checks of their floors run together.
 
@@ -285,20 +328,13 @@ def check_floors(
     list of CheckReport
         One per layout, in order.
     """
-    _check_positive("agent_radius", agent_radius)
-    _check_positive("grid", grid, allow_zero=False)
-    _check_positive("reach", reach)
-    _check_positive("max_overlap", max_overlap)
-    _check_positive("max_access_overlap", max_access_overlap)
-    for name, flag in (("door_clearance", door_clearance), ("window_clearance", window_clearance),
-                       ("wall_band", wall_band), ("access_clearance", access_clearance)):
-        if not isinstance(flag, (bool, np.bool_)):
-            raise ValueError(f"check_layout: {name} must be True or False, got {flag!r}")
-    if not 0.0 <= min_free_fraction <= 1.0:
-        raise ValueError(f"check_layout: min_free_fraction must lie in [0, 1], "
-                         f"got {min_free_fraction!r}")
     args = (agent_radius, grid, min_free_fraction, reach, max_overlap, door_clearance,
-            window_clearance, wall_band, access_clearance, max_access_overlap)
+            window_clearance, wall_band, access_clearance, max_access_overlap, access_width)
+    check_parameters(agent_radius=agent_radius, grid=grid, min_free_fraction=min_free_fraction,
+                     reach=reach, max_overlap=max_overlap, door_clearance=door_clearance,
+                     window_clearance=window_clearance, wall_band=wall_band,
+                     access_clearance=access_clearance, max_access_overlap=max_access_overlap,
+                     access_width=access_width)
     kept = _FLOOR_CHECKS.get()
     floors: list[tuple | None] = []
     todo: dict[tuple, list[int]] = {}  # layouts whose floors are checked together
@@ -367,7 +403,8 @@ def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarr
                   half: np.ndarray, agent_radius: float, grid: float,
                   min_free_fraction: float, reach: float, max_overlap: float,
                   door_clearance: bool, window_clearance: bool, wall_band: bool,
-                  access_clearance: bool, max_access_overlap: float) -> list[tuple]:
+                  access_clearance: bool, max_access_overlap: float,
+                  access_width: float) -> list[tuple]:
     """Every check of the floor objects alone (all but ``surfaces``) of B floors of
     ``layout``'s plan with the same objects ``ids`` at poses (B, N, 2) and (B, N), checked
     together: per floor, the failures before and after where ``surfaces`` goes, the
@@ -399,7 +436,7 @@ def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarr
             before[b] += lines
     if access_clearance:
         for b, lines in enumerate(_access(ids, boxes, polys, solid, walk, layout,
-                                          max_access_overlap)):
+                                          max_access_overlap, access_width)):
             before[b] += lines
     rg = room_grid(room, grid=grid, agent_radius=agent_radius)
     r2 = np.float32(agent_radius) ** 2
@@ -600,10 +637,30 @@ def _windows(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
     return out
 
 
+#: Step of the stretches of an access zone the check tries along its side, metres.
+_ACCESS_STEP = 0.05
+
+
+def _stretches(centre: np.ndarray, lateral: np.ndarray, out: np.ndarray, half: np.ndarray,
+               width: float) -> np.ndarray:
+    """Polygons of the stretches of one zone ``width`` wide (the zone if narrower), side
+    by side every :data:`_ACCESS_STEP` metres from one end of the zone to the other."""
+    w = min(width, 2.0 * float(half[0]))
+    slack = 2.0 * float(half[0]) - w
+    u = np.linspace(-0.5 * slack, 0.5 * slack, int(np.ceil(slack / _ACCESS_STEP)) + 1)
+    k = len(u)
+    corners = corners_from_axes(centre + u[:, None] * lateral, np.broadcast_to(lateral, (k, 2)),
+                                np.broadcast_to(out, (k, 2)),
+                                np.broadcast_to([0.5 * w, half[1]], (k, 2)))
+    return _polygons(corners)
+
+
 def _access(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
-            solid: np.ndarray, walk: np.ndarray, layout: Layout, limit: float
+            solid: np.ndarray, walk: np.ndarray, layout: Layout, limit: float, width: float
             ) -> list[list[str]]:
-    """Per floor, a line for each object with every access zone blocked, saying by what."""
+    """Per floor, a line for each object with every access zone blocked, saying by what:
+    a zone is free when one stretch of it ``width`` wide has at most ``limit`` m² covered
+    or off the floor."""
     from forcelayout.access import access_zones, related_pairs, zone_boxes
     from forcelayout.bindings import compile_plan
 
@@ -629,26 +686,49 @@ def _access(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
     out = []
     for b in range(nb):
         squares = _polygons(corners[b])
-        why: list[list[str]] = [[] for _ in range(nz)]
+        # per zone, what covers it (area, what) and the parts of it covered or off the floor
+        why: list[list[tuple[float, str]]] = [[] for _ in range(nz)]
+        parts: list[list[Any]] = [[] for _ in range(nz)]
         z, s = np.nonzero(near[b])
         if len(z):
-            area = shapely.area(shapely.intersection(polys(b, solid[s]), squares[z]))
-            for zz, ss, a in zip(z.tolist(), s.tolist(), area.tolist(), strict=True):
-                if a > limit:
-                    why[zz].append(f"{ids[solid[ss]]!r} ({_area_over(a, limit)} m²)")
+            cut = shapely.intersection(polys(b, solid[s]), squares[z])
+            for zz, ss, a, g in zip(z.tolist(), s.tolist(), shapely.area(cut).tolist(), cut,
+                                    strict=True):
+                if a > 0.0:
+                    why[zz].append((a, repr(ids[solid[ss]])))
+                    parts[zz].append(g)
         for zz in np.flatnonzero(~on_floor[b]).tolist():
-            a = float(shapely.area(shapely.difference(squares[zz], layout.room.shape)))
-            if a > limit:
-                why[zz].append(f"the wall ({_area_over(a, limit)} m² off the floor)")
+            g = shapely.difference(squares[zz], layout.room.shape)
+            a = float(shapely.area(g))
+            if a > 0.0:
+                why[zz].append((a, "the wall"))
+                parts[zz].append(g)
+        blocked = np.zeros(nz, dtype=bool)
+        for zz in range(nz):
+            if sum(a for a, _ in why[zz]) <= limit:
+                continue  # the whole zone is free enough
+            taken = shapely.union_all(parts[zz])
+            stretches = _stretches(zc[b, zz], zl[b, zz], zo[b, zz], zh[b, zz], width)
+            blocked[zz] = bool(shapely.area(shapely.intersection(taken, stretches)).min()
+                               > limit)
         lines = []
         for u in dict.fromkeys(o.tolist()):
             mine = np.flatnonzero(o == u).tolist()
-            if all(why[zz] for zz in mine):
+            if blocked[mine].all():
                 sides = "; ".join(f"{zones.sides[zz]} ({zones.depth[zz]:.2f} m deep) blocked "
-                                  f"by {', '.join(why[zz])}" for zz in mine)
+                                  f"by {_covering(why[zz], limit)}" for zz in mine)
                 lines.append(f"access: {ids[u]!r} has no free side to be used from ({sides})")
         out.append(lines)
     return out
+
+
+def _covering(why: list[tuple[float, str]], limit: float) -> str:
+    """What covers an access zone, largest first: ``'bed' (0.31 m²)``, ``the wall (0.19 m²
+    off the floor)``."""
+    why = sorted(why, key=lambda t: -t[0])
+    why = [t for t in why if t[0] >= 0.01] or why[:1]  # not the slivers
+    return ", ".join(f"{what} ({_area_over(a, limit) if a > limit else _area(a)} m²"
+                     f"{' off the floor' if what == 'the wall' else ''})" for a, what in why)
 
 
 def _surfaces(layout: Layout, max_overlap: float) -> list[str]:

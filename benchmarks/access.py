@@ -6,11 +6,11 @@ beside a long side of a bed). The zones are kept free by a force and by
 start poses, not by a check, so this script measures how often they fail:
 for each plan, the valid layouts of ``forcelayout.generate`` and of the
 rejection baseline (:func:`forcelayout.baselines.rejection_sample`, same
-seed), and the share of them where some object has every zone blocked. A
-zone is blocked when an unrelated solid object stands more than
-``--area`` m2 inside it, or more than that much of it lies off the floor
-(objects a rule relates to the owner and walkable covers do not count, as
-for the force). Prints JSON: per plan and overall, ``blocked_pct`` of each
+seed), and the share of them where some object has every zone blocked, as
+the ``access`` check judges it (:func:`forcelayout.validate.check_layout`):
+a zone is free where some stretch of it ``--width`` metres wide has at most
+``--area`` m2 covered by solid objects no rule relates to its owner, or off
+the floor. Prints JSON: per plan and overall, ``blocked_pct`` of each
 side and the pairs (``"intruder>owner"``) seen most often.
 
 Then the same with the ``access`` check required (``check_kwargs=
@@ -23,79 +23,46 @@ good layouts per CPU second within ``--baseline-tries``.
 Usage::
 
     python benchmarks/access.py [--plans DIR_OR_JSON ...] [--samples 30]
-        [--baseline-tries 2000] [--area 0.1] [--jobs 2] [--markdown]
+        [--baseline-tries 2000] [--area 0.1] [--width 0.6] [--jobs 2] [--markdown]
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 import time
 from collections import Counter
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-import shapely
-
 import forcelayout as fl
 from forcelayout import baselines
-from forcelayout.access import access_of
-from forcelayout.bindings import compile_plan
 from forcelayout.sampling import sample_seed, solve_many
+from forcelayout.validate import check_layout
 
 HERE = Path(__file__).resolve().parent
-SIDES = {"front": (0.0, 1.0), "back": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
 
 
-def _box(x: float, y: float, yaw: float, w: float, d: float,
-         shift: tuple[float, float] = (0.0, 0.0)) -> shapely.Polygon:
-    """A w x d rectangle centred at ``shift`` in the frame of a pose (x, y, yaw)."""
-    rect = shapely.box(shift[0] - w / 2, shift[1] - d / 2, shift[0] + w / 2, shift[1] + d / 2)
-    return shapely.affinity.translate(
-        shapely.affinity.rotate(rect, yaw, origin=(0, 0), use_radians=True), x, y)
-
-
-def blocked_owners(plan: fl.Plan, layout: fl.Layout, area: float) -> list[tuple[str, list[str]]]:
-    """Objects of a layout with every access zone blocked, each with what blocks it."""
-    objs = {o.id: o for o in plan.objects}
-    floor = shapely.Polygon(plan.room.polygon)
-    poses = layout.poses
-    bindings = compile_plan(plan).bindings
-    ids = [k for k, p in poses.items() if p.surface == "floor" and not objs[k].is_walkable]
-    foot = {k: _box(poses[k].x, poses[k].y, poses[k].yaw, *objs[k].size[:2]) for k in ids}
+def blocked_owners(layout: fl.Layout, area: float, width: float
+                   ) -> list[tuple[str, list[str]]]:
+    """Objects of a layout with every access zone blocked, each with what blocks it: the
+    ``access`` check's lines (:func:`forcelayout.validate.check_layout`), read back."""
+    rep = check_layout(layout, access_clearance=True, max_access_overlap=area,
+                       access_width=width)
     out = []
-    for k in ids:
-        acc = access_of(objs[k], [b for b in bindings if b.object == k])
-        if acc is None:
-            continue
-        related = ({b.target for b in plan.rules if b.object == k}
-                   | {b.object for b in plan.rules if b.target == k})
-        w, d = objs[k].size[:2]
-        who: list[str] = []
-        free = False
-        for side in acc.sides:
-            sx, sy = SIDES[side]
-            zw = abs(sy) * w + abs(sx) * acc.depth
-            zd = abs(sy) * acc.depth + abs(sx) * d
-            shift = (sx * (w + acc.depth) / 2, sy * (d + acc.depth) / 2)
-            zone = _box(poses[k].x, poses[k].y, poses[k].yaw, zw, zd, shift)
-            hits = [f for f in ids if f != k and f not in related
-                    and foot[f].intersection(zone).area > area]
-            off = zone.difference(floor).area > area
-            if not hits and not off:
-                free = True
-                break
-            who += hits + (["wall"] if off else [])
-        if not free:
-            out.append((k, who))
+    for line in rep.by_check().get("access", []):
+        owner, rest = line.split(" has no free side", 1)
+        who = re.findall(r"'([^']+)' \(", rest) + (["wall"] if "the wall" in rest else [])
+        out.append((owner.strip("'"), who))
     return out
 
 
-def _summary(plan: fl.Plan, layouts: list, area: float) -> dict:
+def _summary(layouts: list, area: float, width: float) -> dict:
     blocked, pairs = 0, Counter()
     for lay in layouts:
-        found = blocked_owners(plan, lay, area)
+        found = blocked_owners(lay, area, width)
         blocked += bool(found)
         pairs.update(f"{w}>{k}" for k, who in found for w in dict.fromkeys(who))
     n = len(layouts)
@@ -107,9 +74,9 @@ def _summary(plan: fl.Plan, layouts: list, area: float) -> dict:
 REQUIRED = {"access_clearance": True}
 
 
-def _required(plan: fl.Plan, samples: int, tries: int, area: float) -> dict:
+def _required(plan: fl.Plan, samples: int, tries: int, area: float, width: float) -> dict:
     """Yield and speed of both samplers with the access check required."""
-    kw = {**REQUIRED, "max_access_overlap": area}
+    kw = {**REQUIRED, "max_access_overlap": area, "access_width": width}
     fl.solve(plan, 2**62, check_kwargs=kw)  # warm caches outside the timing
     t0 = time.process_time()
     raw = solve_many(plan, [sample_seed(0, k) for k in range(samples)], check_kwargs=kw)
@@ -127,14 +94,14 @@ def _required(plan: fl.Plan, samples: int, tries: int, area: float) -> dict:
                          "good_per_s": round(len(base) / bcpu, 2) if bcpu > 0 else None}}
 
 
-def bench_plan(source: str, samples: int, tries: int, area: float) -> dict:
+def bench_plan(source: str, samples: int, tries: int, area: float, width: float) -> dict:
     plan = fl.load_plan(source)
     gen = fl.generate(plan, samples, seed=0)
     base = baselines.rejection_sample(plan, samples, seed=0, max_tries=tries)
     return {"plan": Path(source).stem if source.endswith(".json") else source,
-            "forcelayout": _summary(plan, list(gen), area),
-            "baseline": _summary(plan, list(base), area),
-            "required": _required(plan, samples, tries, area)}
+            "forcelayout": _summary(list(gen), area, width),
+            "baseline": _summary(list(base), area, width),
+            "required": _required(plan, samples, tries, area, width)}
 
 
 def _sources(items: list[str]) -> list[str]:
@@ -170,12 +137,15 @@ def main(argv: list[str] | None = None) -> None:
                     default=[str(HERE / "plans"), str(HERE / "plans_heldout")])
     ap.add_argument("--samples", type=int, default=30)
     ap.add_argument("--baseline-tries", type=int, default=2000)
-    ap.add_argument("--area", type=float, default=0.1, help="m2 inside a zone that blocks it")
+    ap.add_argument("--area", type=float, default=0.1,
+                    help="m2 of a stretch of a zone that blocks it (max_access_overlap)")
+    ap.add_argument("--width", type=float, default=0.6,
+                    help="width of the free stretch a person needs, m (access_width)")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--markdown", action="store_true")
     args = ap.parse_args(argv)
     sources = _sources(args.plans)
-    job = [(s, args.samples, args.baseline_tries, args.area) for s in sources]
+    job = [(s, args.samples, args.baseline_tries, args.area, args.width) for s in sources]
     if args.jobs > 1:
         with ProcessPoolExecutor(args.jobs) as ex:
             rows = list(ex.map(bench_plan, *zip(*job, strict=True)))

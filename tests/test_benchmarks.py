@@ -231,5 +231,7 @@ def test_access_quick() -> None:
     ward = fl.Pose(1.5, 0.3, 0.0)  # back to the wall at y = 0, front towards +y
     in_front = fl.Layout(plan, {"wardrobe": ward, "box": fl.Pose(1.5, 1.0, 0.0)})
     aside = fl.Layout(plan, {"wardrobe": ward, "box": fl.Pose(2.6, 2.6, 0.0)})
-    assert blocked_owners(plan, in_front, 0.1) == [("wardrobe", ["box"])]
-    assert blocked_owners(plan, aside, 0.1) == []
+    assert blocked_owners(in_front, 0.1, 0.6) == [("wardrobe", ["box"])]
+    assert blocked_owners(aside, 0.1, 0.6) == []
+    off = fl.Layout(plan, {"wardrobe": fl.Pose(1.5, 2.7, 0.0)})  # facing the wall at y = 3
+    assert blocked_owners(off, 0.1, 0.6) == [("wardrobe", ["wall"])]

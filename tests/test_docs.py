@@ -9,6 +9,9 @@ seen by the next; rules a page registers are removed afterwards.
 
 (b) Every public name (``__all__``) of forcelayout and its public modules and
 subpackages appears in docs/api.md.
+
+(c) The examples in the docstrings of every module of forcelayout run
+(doctest); a module whose optional extra is missing is skipped.
 """
 
 from __future__ import annotations
@@ -238,3 +241,25 @@ def test_llm_blocks_are_marked_or_offline():
             if needs_server:
                 assert LLM_MARKER in code, f"{page.name}:{line} needs the marker {LLM_MARKER!r}"
 
+
+
+def _modules() -> list[str]:
+    import pkgutil
+
+    import forcelayout
+
+    return sorted(m.name for m in pkgutil.walk_packages(forcelayout.__path__, "forcelayout."))
+
+
+@pytest.mark.parametrize("name", _modules())
+def test_docstring_examples_run(name: str, monkeypatch: pytest.MonkeyPatch, tmp_path: Path):
+    import doctest
+
+    try:
+        module = importlib.import_module(name)
+    except ImportError as e:  # an optional extra that is not installed
+        pytest.skip(f"{name}: {e}")
+    monkeypatch.chdir(tmp_path)
+    result = doctest.testmod(module, optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE,
+                             verbose=False, report=True)
+    assert result.failed == 0, f"{name}: {result.failed} of {result.attempted} examples failed"

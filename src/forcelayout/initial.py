@@ -616,15 +616,24 @@ class Starts:
     with a :class:`RelocateRequest`, so the samples of a batch that draw a
     start (or fix one) at the same time draw together. Give the
     samples of a batch the same ``placer`` (:meth:`placer_of`) for that.
+
+    With ``ahead`` > 1, a sample whose first two starts fail draws its next
+    ones several at a time (2, 4, ... up to ``ahead``, within ``restarts``),
+    all judged together: the first that passes is its next start, else the
+    first with the fewest failures, fixed as one start is. A sample that
+    needs many starts then draws them in a few large batches rather than in
+    many small ones once the rest of its batch is done.
     """
 
     def __init__(self, model: ForceModel, rng: np.random.Generator, *,
                  placer: _Placer | None = None, tries: int = 16, spread: float = 0.3,
-                 restarts: int = 32, fixes: int = 2, misses: int = 0):
+                 restarts: int = 32, fixes: int = 2, misses: int = 0, ahead: int = 1):
         self.model, self.rng = model, rng
         self.placer = placer if placer is not None or model.n == 0 else _Placer(model)
         self.tries, self.spread, self.fixes, self.misses = tries, spread, fixes, misses
         self.left = max(1, restarts)
+        self.ahead = max(1, int(ahead))
+        self.drawn = 0  # starts drawn so far (a sample's first draw is one start)
 
     @staticmethod
     def placer_of(model: ForceModel) -> _Placer:
@@ -639,11 +648,25 @@ class Starts:
         if model.n == 0:
             self.left = 0
             return np.zeros((0, 2)), np.zeros(0), FloorVerdict()
-        self.left -= 1
         placer = self.placer
-        yaw = rng.uniform(-np.pi, np.pi, model.n)
-        pos, yaw = yield ProposeRequest(placer, rng, yaw, self.tries, self.spread)
-        verdict = yield _judging(model, pos, yaw)
+        # after a first start that failed, up to ``ahead`` starts at once, doubling each
+        # time: a sample that needs many starts draws them in a few large batches, not in
+        # many small ones once the other samples of its batch are done
+        m = min(self.left, self.ahead, max(1, self.drawn))
+        self.left -= m
+        self.drawn += m
+        if m == 1:
+            yaw = rng.uniform(-np.pi, np.pi, model.n)
+            pos, yaw = yield ProposeRequest(placer, rng, yaw, self.tries, self.spread)
+            verdict = yield _judging(model, pos, yaw)
+        else:
+            yaws = rng.uniform(-np.pi, np.pi, (m, model.n))
+            poss, yaws = yield ProposeRequest(placer, rng, yaws, self.tries, self.spread)
+            verdicts = yield _judging(model, poss, yaws)
+            # the first that passes, else the first with the fewest failures, fixed below
+            k = next((i for i, v in enumerate(verdicts) if v.passes(self.misses)),
+                     int(np.argmin([len(v.failures) for v in verdicts])))
+            pos, yaw, verdict = poss[k], yaws[k], verdicts[k]
         for f in range(max(0, self.fixes)):
             if verdict.passes(self.misses) or not verdict.at_fault:
                 break
@@ -749,8 +772,10 @@ class ProposeRequest(_DrawerRequest):
         The model's candidate drawer; requests of the same one run as one batch.
     rng : numpy.random.Generator
         The sample's generator (each sample draws from its own only).
-    yaw : ndarray, shape (N,)
-        Headings before placing (kept where an object's draw sets none).
+    yaw : ndarray, shape (N,) or (M, N)
+        Headings before placing (kept where an object's draw sets none): one set of start
+        poses, answered as ``(pos (N, 2), yaw (N,))``, or M sets, answered as
+        ``(pos (M, N, 2), yaw (M, N))``, drawn one after another from ``rng``.
     tries, spread
         As for :func:`propose_poses`.
     """
@@ -766,11 +791,17 @@ class ProposeRequest(_DrawerRequest):
         """Start poses ``(pos, yaw)`` for each request of one key, placed together."""
         first = requests[0]
         n = first.placer.model.n
-        pos = np.zeros((len(requests), n, 2))
-        yaw = np.stack([q.yaw for q in requests]).reshape(len(requests), n)
-        pos, yaw = _propose(first.placer, [q.rng for q in requests], pos, yaw, first.tries,
-                            first.spread)
-        return [(pos[b], yaw[b]) for b in range(len(requests))]
+        counts = [len(q.yaw) if q.yaw.ndim == 2 else 1 for q in requests]
+        yaw = np.concatenate([q.yaw.reshape(-1, n) for q in requests])
+        pos = np.zeros((len(yaw), n, 2))
+        rngs = [q.rng for q, c in zip(requests, counts, strict=True) for _ in range(c)]
+        pos, yaw = _propose(first.placer, rngs, pos, yaw, first.tries, first.spread)
+        out, at = [], 0
+        for q, c in zip(requests, counts, strict=True):
+            out.append((pos[at: at + c], yaw[at: at + c]) if q.yaw.ndim == 2
+                       else (pos[at], yaw[at]))
+            at += c
+        return out
 
 
 def relocate(model: ForceModel, rows: list[int] | np.ndarray, pos: np.ndarray, yaw: np.ndarray,

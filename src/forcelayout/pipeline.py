@@ -62,6 +62,9 @@ class Placement:
 #: Starts that pass and are settled, at most, before the full simulation runs from the first.
 SETTLE_STARTS = 3
 
+#: Most starts a sample draws at once once its first two failed (``Starts(ahead=...)``).
+START_AHEAD = 8
+
 #: Share of its rules a start must meet to be settled as drawn, at the least (a stricter
 #: ``Options.min_rule_satisfaction`` asks for more).
 START_RULE_SATISFACTION = 0.95
@@ -159,7 +162,7 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Mo
     misses = allowed_misses(len(model.compiled.bindings),
                             max(opts.min_rule_satisfaction, START_RULE_SATISFACTION))
     steps, settled, start, fewest, tried = 0, None, None, np.inf, 0
-    starts = Starts(model, rng, placer=models.placer, misses=misses)
+    starts = Starts(model, rng, placer=models.placer, misses=misses, ahead=START_AHEAD)
     while True:
         got = yield from starts.next()
         if got is None:

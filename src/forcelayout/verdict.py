@@ -152,8 +152,9 @@ class JudgeRequest:
     Attributes
     ----------
     model : ForceModel
-    pos : ndarray, shape (N, 2)
-    yaw : ndarray, shape (N,)
+    pos : ndarray, shape (N, 2) or (M, N, 2)
+    yaw : ndarray, shape (N,) or (M, N)
+        One arrangement, answered with its verdict, or M, answered with a list of M.
     check_kwargs : dict, optional
     checks : bool
         As for :func:`judge_floor`.
@@ -171,9 +172,18 @@ class JudgeRequest:
         return (id(self.model), kw, self.checks)
 
     @staticmethod
-    def run(requests: list[JudgeRequest]) -> list[FloorVerdict]:
+    def run(requests: list[JudgeRequest]) -> list[FloorVerdict | list[FloorVerdict]]:
         """The verdicts of requests with the same key, judged together."""
         first = requests[0]
-        return judge_floors(first.model, np.stack([q.pos for q in requests]),
-                            np.stack([q.yaw for q in requests]), first.check_kwargs,
-                            checks=first.checks)
+        n = first.model.n
+        many = [q.pos.ndim == 3 for q in requests]
+        pos = np.concatenate([q.pos.reshape(-1, n, 2) for q in requests])
+        yaw = np.concatenate([q.yaw.reshape(-1, n) for q in requests])
+        verdicts = judge_floors(first.model, pos, yaw, first.check_kwargs, checks=first.checks)
+        out: list[FloorVerdict | list[FloorVerdict]] = []
+        at = 0
+        for q, m in zip(requests, many, strict=True):
+            k = len(q.pos) if m else 1
+            out.append(verdicts[at: at + k] if m else verdicts[at])
+            at += k
+        return out

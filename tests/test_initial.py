@@ -425,3 +425,39 @@ def test_starts_keep_out_of_access_zones():
                                  half[:, None], st.right[None], st.front[None], st.half[None])
         blocked += ((sep < -0.02) & ~zones.exempt).any()
     assert blocked <= 3
+
+
+def test_starts_drawn_ahead_are_the_same_alone_or_in_a_batch():
+    """A sample whose first starts fail draws several at once (``ahead``); what it gets
+    depends on its own generator only, whatever else is in its batch."""
+    from pathlib import Path
+
+    from forcelayout.batching import drive
+
+    plan = fl.load_plan(Path(__file__).resolve().parents[1]
+                        / "benchmarks/plans/bedroom_crowded_3x3_2.json")
+    model = ForceModel(plan)
+    placer = Starts.placer_of(model)
+
+    def run(seeds, ahead):
+        starts = [Starts(model, np.random.default_rng(s), placer=placer, ahead=ahead)
+                  for s in seeds]
+
+        def first_passing(st):  # the sample's starts until one passes
+            while True:
+                got = yield from st.next()
+                if got is None or got[2].ok:
+                    return got, st.drawn
+
+        return drive([first_passing(st) for st in starts])
+
+    seeds = list(range(12))
+    together = run(seeds, 4)
+    assert max(drawn for _, drawn in together) > 2  # some drew ahead
+    for s, (got, drawn) in zip(seeds, together, strict=True):
+        (alone, drawn_alone), = run([s], 4)
+        assert drawn == drawn_alone
+        assert (got is None) == (alone is None)
+        if got is not None:
+            np.testing.assert_array_equal(got[0], alone[0])
+            np.testing.assert_array_equal(got[1], alone[1])

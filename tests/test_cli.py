@@ -130,16 +130,24 @@ def test_entry_point_is_installed(args):
     assert proc.returncode == 0
 
 
-def test_validate_reports_files_that_are_not_layouts_and_fails(tmp_path, capsys):
+def test_validate_skips_the_runs_plan_and_summary_and_counts_what_passes(tmp_path, capsys):
     out = tmp_path / "out"
-    assert main(["generate", "bedroom", "-n", "1", "--out", str(out), "--quiet"]) == 0
+    assert main(["generate", "bedroom", "-n", "2", "--out", str(out), "--quiet",
+                 "--format", "none"]) == 0
     files = sorted(out.glob("*.json"))  # plan.json and summary.json as well, as a glob gives
-    assert main(["validate", str(out / "plan.json"), *map(str, files)]) == 1
+    assert main(["validate", str(out / "plan.json"), *map(str, files)]) == 0
     captured = capsys.readouterr()
-    assert "summary.json: not a layout" in captured.err
+    assert "summary.json: skipped (a run's summary, not a layout)" in captured.err
+    assert "plan.json: skipped (a plan, not a layout)" in captured.err
     assert "bedroom_000.json: ok" in captured.out
-    layouts = sorted(out.glob("bedroom_*.json"))
-    assert main(["validate", str(out / "plan.json"), *map(str, layouts)]) == 0
+    assert captured.out.splitlines()[-1] == "2 of 2 layout files pass the checks; 2 skipped"
+    # a file that is neither still fails the command
+    (out / "notes.json").write_text(json.dumps({"comment": "mine"}))
+    assert main(["validate", str(out / "plan.json"), *map(str, files), str(out / "notes.json")]
+                ) == 1
+    captured = capsys.readouterr()
+    assert "notes.json: not a layout of plan 'bedroom'" in captured.err
+    assert captured.out.splitlines()[-1] == "2 of 3 layout files pass the checks; 2 skipped"
 
 
 
@@ -267,6 +275,10 @@ def test_generate_access_draws_the_access_zones(tmp_path):
                      "--format", "svg", *flag]) == 0
         (svg,) = out.glob("*.svg")
         assert ('id="access:bed:' in svg.read_text()) == bool(flag)
+    # render draws them on request too
+    (layout,) = (tmp_path / "out0").glob("*_000.json")
+    assert main(["render", str(plan), str(layout), "--format", "svg", "--access"]) == 0
+    assert 'id="access:bed:' in layout.with_suffix(".svg").read_text()
 
 
 def test_validate_access_reports_blocked_access_zones(tmp_path, capsys):

@@ -86,8 +86,13 @@ def _cmd_validate(args: argparse.Namespace) -> int:
         for note in feas.notes:
             print(f"{'warning' if feas.ok else 'infeasible'}: {note}", file=sys.stderr)
         return 0 if feas.ok else 1
-    bad = 0
+    bad = passed = skipped = 0
     for path in args.layouts:
+        other = _not_a_layout(path)
+        if other is not None:  # DIR/*.json also matches the run's plan.json, summary.json
+            print(f"{path}: skipped ({other}, not a layout)", file=sys.stderr)
+            skipped += 1
+            continue
         try:
             lay = Layout.load(path, plan)
         except OSError as e:
@@ -105,7 +110,30 @@ def _cmd_validate(args: argparse.Namespace) -> int:
         for f in rep.failures:
             print(f"    {f}")
         bad += not rep.ok
+        passed += rep.ok
+    checked = passed + bad
+    print(f"{passed} of {checked} layout file{'s' * (checked != 1)} pass the checks"
+          + (" (with access)" if args.access else "")
+          + (f"; {skipped} skipped" if skipped else ""))
     return 1 if bad else 0
+
+
+def _not_a_layout(path: Path) -> str | None:
+    """What a JSON file is when it is a plan or a run's summary (None otherwise, or when it
+    cannot be read: the layout reader says why)."""
+    import json
+
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    if not isinstance(data, dict) or "objects" in data and "report" in data:
+        return None
+    if {"room", "objects"} <= data.keys():
+        return "a plan"
+    if {"accepted", "attempted"} <= data.keys():
+        return "a run's summary"
+    return None
 
 
 def _cmd_render(args: argparse.Namespace) -> int:
@@ -120,7 +148,7 @@ def _cmd_render(args: argparse.Namespace) -> int:
             print(f"error: {path}: not a layout of plan {plan.name!r}: {e}", file=sys.stderr)
             return 2
         out = Path(path).with_suffix(f".{args.format}")
-        lay.picture(out)
+        lay.picture(out, show_access=args.access)
         print(out)
     return 0
 
@@ -203,6 +231,9 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("plan")
     d.add_argument("layouts", nargs="+", type=Path)
     d.add_argument("--format", choices=["png", "svg"], default="png")
+    d.add_argument("--access", action="store_true",
+                   help="draw the access zones, and mark objects with none free (the access "
+                        "check)")
     d.set_defaults(func=_cmd_render)
 
     for module, extra, commands in OPTIONAL_COMMANDS:

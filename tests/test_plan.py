@@ -269,6 +269,7 @@ def test_a_size_of_the_wrong_shape_says_what_a_size_is(size):
 @pytest.mark.parametrize("access, says", [
     ({"sides": ["frontt"]}, "objects[0].access: sides.0: Input should be 'front'"),
     ("front", "got 'front'"),
+    ({"sides": ["fronts"], "depth": -1}, "access: 2 mistakes in it: sides.0: Input should be"),
 ])
 def test_a_bad_access_is_one_problem_that_shows_its_shape(access, says):
     data = plan_with(objects__0__access=access)

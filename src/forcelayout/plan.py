@@ -188,8 +188,11 @@ class SceneObject(_Model):
             try:
                 return ObjectAccess.model_validate(v)
             except ValidationError as e:
+                errs = e.errors()
                 what = "; ".join(f"{'.'.join(map(str, err['loc']))}: {err['msg']}"
-                                 for err in e.errors())
+                                 for err in errs)
+                if len(errs) > 1:  # one problem of the plan, said as one
+                    what = f"{len(errs)} mistakes in it: {what}"
                 raise ValueError(f"{what} ({shape})") from None
         raise ValueError(f"{shape}; got {v!r}")
 

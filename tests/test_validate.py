@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -630,6 +631,16 @@ def test_check_parameters_of_the_wrong_type_name_the_parameter(kwargs, says):
     # and before any sampling
     with pytest.raises(ValueError, match=f"Options.check_kwargs: {says}"):
         fl.Options(check_kwargs=kwargs)
+
+
+def test_access_parameters_without_the_access_check_warn():
+    import forcelayout as fl
+
+    with pytest.warns(UserWarning, match="access_width set but the access check is off"):
+        fl.Options(check_kwargs={"access_width": 0.8})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fl.Options(check_kwargs={"access_width": 0.8, "access_clearance": True})
 
 
 def test_an_unknown_check_parameter_is_refused_before_sampling():

@@ -177,3 +177,9 @@ def _check_names(kwargs: dict[str, Any]) -> None:
         check_parameters(**kwargs)
     except ValueError as e:
         raise ValueError(f"Options.check_kwargs: {str(e).removeprefix('check_layout: ')}") from None
+    idle = [k for k in ("access_width", "max_access_overlap") if k in kwargs]
+    if idle and not kwargs.get("access_clearance", False):
+        import warnings
+
+        warnings.warn(f"Options.check_kwargs: {', '.join(idle)} set but the access check is "
+                      "off; add access_clearance=True to run it", UserWarning, stacklevel=3)

@@ -112,6 +112,43 @@ def test_simulate_batch_gives_each_sample_its_own_result():
         assert (together[b].steps, together[b].converged) == (alone.steps, alone.converged)
 
 
+def test_each_sample_may_hold_its_own_rows_fixed():
+    from forcelayout.repair import repairing
+
+    model = repairing(ForceModel(fl.load_plan(ROOM)))  # with walking room that holds
+    pos, yaw = _starts(model, 4)
+    rng = np.random.default_rng(3)
+    fixed = rng.random((4, model.n)) < 0.5
+    fixed[0] = False  # one moves everything, one nothing
+    fixed[1] = True
+    together = simulate_batch(model, pos, yaw, fixed=fixed)
+    for b in range(4):
+        alone = simulate(model, pos[b], yaw[b], fixed=fixed[b])
+        assert np.array_equal(together[b].pos, alone.pos)
+        assert np.array_equal(together[b].yaw, alone.yaw)
+        assert together[b].steps == alone.steps
+        np.testing.assert_allclose(together[b].pos[fixed[b]], pos[b][fixed[b]], atol=1e-6)
+
+
+def test_repairs_of_a_batch_run_together_and_give_what_each_gives_alone():
+    from forcelayout.batching import drive
+    from forcelayout.repair import repair_floor, repair_task
+
+    model = ForceModel(fl.load_plan(ROOM))
+    pos, yaw = _starts(model, 4)
+    cfg = SolverConfig(max_steps=30)
+    settled = simulate_batch(model, pos, yaw, cfg)
+    seeds = [11, 12, 13, 14]
+    together = drive([repair_task(model, s.pos, s.yaw, cfg, rounds=4,
+                                  rng=np.random.default_rng(seed))
+                      for s, seed in zip(settled, seeds, strict=True)])
+    for s, seed, got in zip(settled, seeds, together, strict=True):
+        alone = repair_floor(model, s.pos, s.yaw, cfg, rounds=4, rng=np.random.default_rng(seed))
+        assert np.array_equal(got[0], alone[0]) and np.array_equal(got[1], alone[1])
+        assert got[2:] == alone[2:]
+    assert any(spent for _, _, spent, _ in together)  # some had something to repair
+
+
 def test_a_sample_at_the_step_cap_says_so_and_holds_up_no_other():
     model = ForceModel(fl.load_plan(ROOM))
     pos, yaw = _starts(model, 3)

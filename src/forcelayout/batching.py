@@ -49,12 +49,15 @@ class SimRequest:
     yaw : ndarray, shape (N,)
         Start poses.
     config : SolverConfig
+    fixed : ndarray of bool, shape (N,), optional
+        Rows that do not move in this sample (they still push and pull).
     """
 
     model: ForceModel
     pos: np.ndarray
     yaw: np.ndarray
     config: SolverConfig
+    fixed: np.ndarray | None = None
 
     #: Answered only in a round where every pending request waits too: samples still
     #: drawing or fixing starts join the batch instead of forming smaller ones later.
@@ -68,8 +71,13 @@ class SimRequest:
     def run(requests: list[SimRequest]) -> list[SimulationResult]:
         """One :func:`~forcelayout.solver.simulate_batch` of requests with the same key."""
         first = requests[0]
+        fixed = None
+        if any(r.fixed is not None for r in requests):
+            none = np.zeros(first.model.n, dtype=bool)
+            fixed = np.stack([none if r.fixed is None else np.asarray(r.fixed, dtype=bool)
+                              for r in requests])
         return simulate_batch(first.model, np.stack([r.pos for r in requests]),
-                              np.stack([r.yaw for r in requests]), first.config)
+                              np.stack([r.yaw for r in requests]), first.config, fixed=fixed)
 
 
 #: A sample written as a generator: yields requests, receives answers, returns its outcome.

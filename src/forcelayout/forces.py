@@ -149,8 +149,10 @@ class PassageTerm:
 
     def stack(self, samples: int, rows: int) -> PassageTerm:
         """The same pairs in each of ``samples`` stacked samples of ``rows`` rows."""
-        return PassageTerm(stacked_rows(self.qi, samples, rows),
-                           stacked_rows(self.qj, samples, rows), self.weights)
+        out = PassageTerm(stacked_rows(self.qi, samples, rows),
+                          stacked_rows(self.qj, samples, rows), self.weights)
+        out.annealed = self.annealed  # an instance may hold all through (repair rounds)
+        return out
 
     def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
         w = self.weights

@@ -23,7 +23,7 @@ from forcelayout.initial import Starts
 from forcelayout.layout import Pose
 from forcelayout.options import Options
 from forcelayout.plan import Plan
-from forcelayout.repair import repair_floor
+from forcelayout.repair import repair_task, repairing
 from forcelayout.solver import SimulationResult
 from forcelayout.surfaces import check_surfaces, surface_task
 from forcelayout.verdict import JudgeRequest, allowed_misses
@@ -132,6 +132,13 @@ class _Models:
     quiet: ForceModel  # for settling a start that passes (ForceModel.settling)
     placer: object  # the start poses' candidate drawer (initial.Starts.placer_of)
     muted: dict[frozenset[int], ForceModel] = field(default_factory=dict)
+    walking: ForceModel | None = None  # for repair rounds (repair.repairing), when needed
+
+    def repairing(self) -> ForceModel:
+        """The model of repair rounds, built once for the batch (so its rounds batch)."""
+        if self.walking is None:
+            self.walking = repairing(self.full)
+        return self.walking
 
     def settling(self, missed: set[int]) -> ForceModel:
         """The settling model for a start that passes with the bindings at ``missed``
@@ -189,9 +196,10 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Mo
         steps += res.steps
         pos, yaw = res.pos, res.yaw
         if opts.repair > 0 and model.n:
-            pos, yaw, extra, repairs = repair_floor(model, pos, yaw, opts.solver,
-                                                    rounds=opts.repair,
-                                                    check_kwargs=opts.check_kwargs, rng=rng)
+            pos, yaw, extra, repairs = yield from repair_task(
+                model, pos, yaw, opts.solver, rounds=opts.repair,
+                check_kwargs=opts.check_kwargs, rng=rng, placer=models.placer,
+                walking=models.repairing())
             steps += extra
             yaw = (yaw + np.pi) % (2 * np.pi) - np.pi
     else:

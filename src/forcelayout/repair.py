@@ -19,13 +19,17 @@ from dataclasses import replace
 
 import numpy as np
 
+from forcelayout.batching import SampleTask, SimRequest, drive
 from forcelayout.forces import ForceModel, PassageTerm
-from forcelayout.initial import _movers, parents, relocate
+from forcelayout.initial import RelocateRequest, Starts, _movers
 from forcelayout.options import SolverConfig
-from forcelayout.solver import simulate
-from forcelayout.verdict import FloorVerdict, judge_floor
+from forcelayout.verdict import FloorVerdict, JudgeRequest
 
-__all__ = ["repair_floor"]
+__all__ = ["repair_floor", "repair_task", "repairing"]
+
+#: Candidates and spread of the new spots a repair draws (as start poses draw them).
+_TRIES, _SPREAD = 16, 0.3
+
 
 def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: SolverConfig,
                  *, rounds: int = 2, steps: int = 80, check_kwargs: dict | None = None,
@@ -38,7 +42,7 @@ def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: So
     (:func:`forcelayout.initial.relocate`: another wall, another corner, the
     other side of their parent), with their parents every other round (rounds
     3, 5, ...), then resettle them. Three rounds in a row that do not help end
-    the repair.
+    the repair. One sample of :func:`repair_task` (the batched engine's form).
 
     Parameters
     ----------
@@ -68,32 +72,62 @@ def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: So
         One line per round that improved the arrangement, naming the moved
         objects and the failures before and after.
     """
-    verdict = verdict if verdict is not None else judge_floor(model, pos, yaw, check_kwargs)
+    return drive([repair_task(model, pos, yaw, config, rounds=rounds, steps=steps,
+                              check_kwargs=check_kwargs, verdict=verdict, rng=rng)])[0]
+
+
+def repairing(model: ForceModel) -> ForceModel:
+    """The model a repair round simulates: ``model`` with walking room (an agent's width
+    and a little more, not annealed) between every two solid objects no rule relates.
+
+    Only the objects at fault move in a round, so of those pairs only the ones
+    with a moving object act: it keeps that width to its neighbours or touches
+    them. Build it once per model and pass it to :func:`repair_task`: the
+    rounds of the samples of a batch then simulate together.
+    """
+    out = model.leaving_out()
+    out.add_term(_walkway(model))
+    return out
+
+
+def repair_task(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: SolverConfig,
+                *, rounds: int = 2, steps: int = 80, check_kwargs: dict | None = None,
+                verdict: FloorVerdict | None = None, rng: np.random.Generator | None = None,
+                placer=None, walking: ForceModel | None = None
+                ) -> SampleTask[tuple[np.ndarray, np.ndarray, int, list[str]]]:
+    """:func:`repair_floor` as a sample task (:mod:`forcelayout.batching`): it asks for
+    each verdict with a :class:`~forcelayout.verdict.JudgeRequest`, for each new spot
+    with a :class:`~forcelayout.initial.RelocateRequest` and for each round's
+    simulation with a :class:`~forcelayout.batching.SimRequest` (its own fixed rows),
+    so the repairs of a batch's samples run together. Give the samples of a batch the
+    same ``placer`` (:meth:`Starts.placer_of`) and ``walking`` (:func:`repairing`)."""
+    if verdict is None:
+        verdict = yield JudgeRequest(model, pos, yaw, check_kwargs)
     spent, notes = 0, []
     cfg = replace(config, max_steps=max(1, min(config.max_steps, steps)),
                   min_steps=min(config.min_steps, 20))
     idle = 0  # rounds in a row that did not help
-    parent = parents(model)
     for k in range(max(0, rounds)):
         if verdict.ok or not verdict.at_fault or idle >= 3:
             break
+        if placer is None:
+            placer = Starts.placer_of(model)
+        if walking is None:
+            walking = repairing(model)
         movers = np.zeros(model.n, dtype=bool)
         movers[sorted(verdict.at_fault)] = True
         start_pos, start_yaw, how = pos, yaw, "resettled"
         if k > 0 and rng is not None:
             # an object moves elsewhere with the objects that start beside it (its
             # children), every other round with its parent too
-            movers = _movers(parent, movers, with_parents=k % 2 == 0)
-            start_pos, start_yaw = relocate(model, np.flatnonzero(movers), pos, yaw, rng)
+            movers = _movers(placer.parent, movers, with_parents=k % 2 == 0)
+            start_pos, start_yaw = yield RelocateRequest(
+                placer, rng, tuple(np.flatnonzero(movers).tolist()), pos, yaw, _TRIES,
+                _SPREAD)
             how = "moved elsewhere"
-        walkway = _walkway(model, movers)
-        model.add_term(walkway)
-        try:
-            res = simulate(model, start_pos, start_yaw, cfg, fixed=~movers)
-        finally:
-            model.terms.remove(walkway)
+        res = yield SimRequest(walking, start_pos, start_yaw, cfg, fixed=~movers)
         spent += res.steps
-        after = judge_floor(model, res.pos, res.yaw, check_kwargs)
+        after = yield JudgeRequest(model, res.pos, res.yaw, check_kwargs)
         if len(after.failures) >= len(verdict.failures):
             idle += 1
             continue
@@ -105,15 +139,16 @@ def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: So
     return pos, yaw, spent, notes
 
 
-def _walkway(model: ForceModel, movers: np.ndarray) -> PassageTerm:
-    """Walking room (an agent's width and a little more) between the movers and all else.
+def _walkway(model: ForceModel) -> PassageTerm:
+    """Walking room (an agent's width and a little more) between every two solid objects
+    no rule relates.
 
     Not annealed: it holds through the short repair simulation.
     """
     n = model.n
     pi, pj = (a.astype(int) for a in np.triu_indices(n, k=1))
     solid = ~model.walkable
-    keep = (movers[pi] | movers[pj]) & solid[pi] & solid[pj] & ~model.related[pi, pj]
+    keep = solid[pi] & solid[pj] & ~model.related[pi, pj]
     w = replace(model.physical_weights, passage=2.0, passage_range=0.5)
     term = PassageTerm(pi[keep], pj[keep], w)
     term.annealed = False

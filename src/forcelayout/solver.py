@@ -114,14 +114,14 @@ def _footprints(model: ForceModel) -> list[list[tuple[float, float]] | None]:
 
 def _at_rest(model: ForceModel, state: State, f: np.ndarray, tau: np.ndarray,
              obstacles: list[np.ndarray] | None) -> bool:
-    """Whether no term acts on any object and every footprint lies inside the room, clear of
-    the obstacles.
+    """Whether no term acts on any moving object (``f``, ``tau`` of those rows) and every
+    footprint lies inside the room, clear of the obstacles.
 
     Bodies then keep still: their velocities are set from the forces, and the
     contact solver only moves footprints that overlap (the repulsion term,
     zero here, acts before furniture touches).
     """
-    if np.abs(f).max() > _STILL or np.abs(tau).max() > _STILL:
+    if np.abs(f).max(initial=0.0) > _STILL or np.abs(tau).max(initial=0.0) > _STILL:
         return False
     if not model.room.contains(state.corners.reshape(-1, 2)).all():
         return False
@@ -218,7 +218,9 @@ def simulate_batch(
     yaw : ndarray, shape (B, N)
         Start poses of the B samples.
     config : SolverConfig, optional
-    fixed, obstacles : optional
+    fixed : ndarray of bool, shape (N,) or (B, N), optional
+        As for :func:`simulate`: the same for every sample, or each sample's own.
+    obstacles : optional
         As for :func:`simulate`; the same for every sample.
     callback : callable, optional
         ``callback(step, b, pos, yaw)`` after every step of each moving sample ``b``.
@@ -236,18 +238,21 @@ def simulate_batch(
     pos = pos.reshape(count, n, 2)
     yaw = np.array(yaw, dtype=float).reshape(count, n)
     fixed = np.zeros(n, dtype=bool) if fixed is None else np.asarray(fixed, dtype=bool)
+    own = fixed.ndim == 2  # each sample's own fixed rows
     if n == 0 or count == 0:
         return [SimulationResult(pos[b], yaw[b], 0, True) for b in range(count)]
     hulls = _footprints(model)
     worlds, bodies, moving = [], [], []
     for b in range(count):
         world = _world(model.room, obstacles)
-        bods = _bodies(model, world, pos[b], yaw[b], fixed, hulls)
+        fb = fixed[b] if own else fixed
+        bods = _bodies(model, world, pos[b], yaw[b], fb, hulls)
         worlds.append(world)
         bodies.append(bods)
-        moving.append([bd for bd, f in zip(bods, fixed, strict=True) if not f])
-    mv = np.flatnonzero(~fixed)
-    all_moving = len(mv) == n
+        moving.append([bd for bd, f in zip(bods, fb, strict=True) if not f])
+    mv = np.flatnonzero(~fixed) if not own else None
+    mvs = [np.flatnonzero(~fixed[b]) for b in range(count)] if own else None
+    all_moving = not fixed.any()
     steps = np.zeros(count, dtype=int)
     converged = np.zeros(count, dtype=bool)
     quiet = np.zeros(count, dtype=int)
@@ -272,8 +277,10 @@ def simulate_batch(
         f = (fs_all[active] + fp.reshape(m, n, 2))
         tau = (ts_all[active] + tp.reshape(m, n))
         if t == 0:  # nothing acts and nothing overlaps: no step would move it
-            rest = np.array([_at_rest(model, state.sample(c), f[c], tau[c], obstacles)
-                             for c in range(m)])
+            moves = [slice(None) if all_moving else mvs[b] if own else mv
+                     for b in active.tolist()]  # the rows of each sample that move
+            rest = np.array([_at_rest(model, state.sample(c), f[c][moves[c]],
+                                      tau[c][moves[c]], obstacles) for c in range(m)])
             if rest.any():
                 converged[active[rest]] = True
                 keep = ~rest
@@ -281,7 +288,7 @@ def simulate_batch(
                 m = len(active)
                 if not m:
                     break
-        if not all_moving:
+        if not all_moving and not own:
             f, tau = f[:, mv], tau[:, mv]
         v = f * mob
         speed2 = (v * v).sum(2)
@@ -289,7 +296,11 @@ def simulate_batch(
         if fast.any():
             v[fast] *= (vmax / np.sqrt(speed2[fast]))[:, None]
         om = np.clip(tau * amob, -wmax, wmax)
-        vl, wl = v.tolist(), om.tolist()
+        if own:  # each sample's moving rows
+            vl = [v[c, mvs[b]].tolist() for c, b in enumerate(active.tolist())]
+            wl = [om[c, mvs[b]].tolist() for c, b in enumerate(active.tolist())]
+        else:
+            vl, wl = v.tolist(), om.tolist()
         new = np.empty((m, n, 3))
         for c, b in enumerate(active.tolist()):
             for body, vel, w in zip(moving[b], vl[c], wl[c], strict=True):

@@ -34,6 +34,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import shapely
 from matplotlib import colormaps, rc_context
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -167,15 +168,22 @@ def _draw_objects(ax: Axes, layout: Layout, labels: bool, failing: set[str]
 
 
 def _draw_access(ax: Axes, layout: Layout, failures: Sequence[str]) -> None:
-    """Dashed access zones; red for the objects the ``access`` check names."""
+    """Dashed access zones, the part of each on the floor; red for the objects the
+    ``access`` check names."""
     from forcelayout.access import layout_zones
 
     blocked = {f.split("'")[1] for f in failures if f.startswith("access:") and "'" in f}
+    floor = layout.room.shape
     for oid, side, c in layout_zones(layout):
         colour = to_rgba(_FAIL if oid in blocked else _ACCESS)
-        ax.add_patch(PolygonPatch(c, closed=True, facecolor=(*colour[:3], 0.12),
-                                  edgecolor=colour, lw=0.6, ls="--", zorder=2.5,
-                                  gid=f"access:{oid}:{side}"))
+        on_floor = shapely.intersection(shapely.Polygon(c), floor)  # none drawn past a wall
+        parts = getattr(on_floor, "geoms", [on_floor])
+        for part in parts:
+            if part.geom_type != "Polygon" or part.area <= 1e-9:
+                continue
+            ax.add_patch(PolygonPatch(np.asarray(part.exterior.coords), closed=True,
+                                      facecolor=(*colour[:3], 0.12), edgecolor=colour, lw=0.6,
+                                      ls="--", zorder=2.5, gid=f"access:{oid}:{side}"))
 
 
 def _failing_ids(layout: Layout, failures: Sequence[str]) -> set[str]:

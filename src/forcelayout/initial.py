@@ -649,9 +649,9 @@ class Starts:
             self.left = 0
             return np.zeros((0, 2)), np.zeros(0), FloorVerdict()
         placer = self.placer
-        # after a first start that failed, up to ``ahead`` starts at once, doubling each
-        # time: a sample that needs many starts draws them in a few large batches, not in
-        # many small ones once the other samples of its batch are done
+        # once two starts have failed, 2, 4, ... up to ``ahead`` starts at once: a sample
+        # that needs many starts draws them in a few large batches, not in many small ones
+        # once the other samples of its batch are done
         m = min(self.left, self.ahead, max(1, self.drawn))
         self.left -= m
         self.drawn += m

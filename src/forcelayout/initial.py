@@ -617,12 +617,12 @@ class Starts:
     start (or fix one) at the same time draw together. Give the
     samples of a batch the same ``placer`` (:meth:`placer_of`) for that.
 
-    With ``ahead`` > 1, a sample whose first two starts fail draws its next
-    ones several at a time (2, 4, ... up to ``ahead``, within ``restarts``),
-    all judged together: the first that passes is its next start, else the
-    first with the fewest failures, fixed as one start is. A sample that
-    needs many starts then draws them in a few large batches rather than in
-    many small ones once the rest of its batch is done.
+    With ``ahead`` > 1, a sample whose first two starts fail draws each next
+    one from several (2, 4, ... up to ``ahead``), all judged together: the
+    first that passes is its next start, else the first with the fewest
+    failures, fixed as one start is; ``restarts`` counts these rounds. A
+    sample that needs many starts then draws them in a few large batches
+    rather than in many small ones once the rest of its batch is done.
     """
 
     def __init__(self, model: ForceModel, rng: np.random.Generator, *,
@@ -649,11 +649,11 @@ class Starts:
             self.left = 0
             return np.zeros((0, 2)), np.zeros(0), FloorVerdict()
         placer = self.placer
-        # once two starts have failed, 2, 4, ... up to ``ahead`` starts at once: a sample
-        # that needs many starts draws them in a few large batches, not in many small ones
-        # once the other samples of its batch are done
-        m = min(self.left, self.ahead, max(1, self.drawn))
-        self.left -= m
+        # once two starts have failed, the next from 2, 4, ... up to ``ahead`` drawn at once:
+        # a sample that needs many starts draws them in a few large batches, not in many
+        # small ones once the other samples of its batch are done
+        m = min(self.ahead, max(1, self.drawn))
+        self.left -= 1  # a restart: one start fixed, however many were drawn for it
         self.drawn += m
         if m == 1:
             yaw = rng.uniform(-np.pi, np.pi, model.n)

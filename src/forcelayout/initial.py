@@ -620,9 +620,10 @@ class Starts:
     With ``ahead`` > 1, a sample whose first two starts fail draws each next
     one from several (2, 4, ... up to ``ahead``), all judged together: the
     first that passes is its next start, else the first with the fewest
-    failures, fixed as one start is; ``restarts`` counts these rounds. A
-    sample that needs many starts then draws them in a few large batches
-    rather than in many small ones once the rest of its batch is done.
+    failures, fixed as one start is; ``restarts`` counts these rounds, and
+    no more than ``2 * restarts`` starts are drawn in all. A sample that needs
+    many starts then draws them in a few large batches rather than in many
+    small ones once the rest of its batch is done.
     """
 
     def __init__(self, model: ForceModel, rng: np.random.Generator, *,
@@ -634,6 +635,9 @@ class Starts:
         self.left = max(1, restarts)
         self.ahead = max(1, int(ahead))
         self.drawn = 0  # starts drawn so far (a sample's first draw is one start)
+        # drawn at most twice as many as one at a time would: a sample that never passes
+        # spends no more than that on its starts
+        self.most = self.left if self.ahead == 1 else 2 * self.left
 
     @staticmethod
     def placer_of(model: ForceModel) -> _Placer:
@@ -643,7 +647,7 @@ class Starts:
     def next(self) -> SampleTask[tuple[np.ndarray, np.ndarray, FloorVerdict] | None]:
         """The next start ``(pos, yaw, verdict)``, or None once ``restarts`` are drawn."""
         model, rng = self.model, self.rng
-        if self.left <= 0:
+        if self.left <= 0 or self.drawn >= self.most:
             return None
         if model.n == 0:
             self.left = 0
@@ -652,7 +656,7 @@ class Starts:
         # once two starts have failed, the next from 2, 4, ... up to ``ahead`` drawn at once:
         # a sample that needs many starts draws them in a few large batches, not in many
         # small ones once the other samples of its batch are done
-        m = min(self.ahead, max(1, self.drawn))
+        m = min(self.ahead, max(1, self.drawn), self.most - self.drawn)
         self.left -= 1  # a restart: one start fixed, however many were drawn for it
         self.drawn += m
         if m == 1:

@@ -633,6 +633,15 @@ def test_check_parameters_of_the_wrong_type_name_the_parameter(kwargs, says):
         fl.Options(check_kwargs=kwargs)
 
 
+def test_check_parameters_judges_only_what_is_given_and_refuses_an_unknown_name():
+    from forcelayout.validate import check_parameters
+
+    check_parameters()
+    check_parameters(access_width=0.8, wall_band=True, min_free_fraction=0)
+    with pytest.raises(ValueError, match="unknown check parameter 'acces_width'"):
+        check_parameters(acces_width=0.8)
+
+
 def test_access_parameters_without_the_access_check_warn():
     import forcelayout as fl
 

@@ -183,38 +183,30 @@ def _check_positive(name: str, value: float, *, allow_zero: bool = True) -> None
         raise ValueError(f"check_layout: {name} must be a finite number {need}, got {value!r}")
 
 
-def check_parameters(
-    *,
-    agent_radius: float = 0.2,
-    grid: float = 0.05,
-    min_free_fraction: float = 0.3,
-    reach: float = 0.25,
-    max_overlap: float = 1e-4,
-    door_clearance: bool = True,
-    window_clearance: bool = True,
-    wall_band: bool = False,
-    access_clearance: bool = False,
-    max_access_overlap: float = 0.1,
-    access_width: float = 0.6,
-) -> None:
+#: The check parameters that are numbers, and whether 0 is allowed.
+_NUMBERS = {"agent_radius": True, "grid": False, "reach": True, "max_overlap": True,
+            "max_access_overlap": True, "access_width": False}
+#: The check parameters that are switches.
+_FLAGS = ("door_clearance", "window_clearance", "wall_band", "access_clearance")
+
+
+def check_parameters(**given: Any) -> None:
     """Refuse a parameter of :func:`check_layout` out of range or of the wrong type (a
     ValueError naming it), as the checks and ``Options.check_kwargs`` do before any
-    sampling."""
-    _check_positive("agent_radius", agent_radius)
-    _check_positive("grid", grid, allow_zero=False)
-    _check_positive("reach", reach)
-    _check_positive("max_overlap", max_overlap)
-    _check_positive("max_access_overlap", max_access_overlap)
-    _check_positive("access_width", access_width, allow_zero=False)
-    for name, flag in (("door_clearance", door_clearance), ("window_clearance", window_clearance),
-                       ("wall_band", wall_band), ("access_clearance", access_clearance)):
-        if not isinstance(flag, (bool, np.bool_)):
-            raise ValueError(f"check_layout: {name} must be True or False, got {flag!r}")
-    if isinstance(min_free_fraction, bool) or not isinstance(min_free_fraction,
-                                                             (int, float, np.number)) \
-            or not 0.0 <= min_free_fraction <= 1.0:
-        raise ValueError(f"check_layout: min_free_fraction must lie in [0, 1], "
-                         f"got {min_free_fraction!r}")
+    sampling. Only the parameters given are judged (their defaults are valid)."""
+    for name, value in given.items():
+        if name in _NUMBERS:
+            _check_positive(name, value, allow_zero=_NUMBERS[name])
+        elif name in _FLAGS:
+            if not isinstance(value, (bool, np.bool_)):
+                raise ValueError(f"check_layout: {name} must be True or False, got {value!r}")
+        elif name == "min_free_fraction":
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.number)) \
+                    or not 0.0 <= value <= 1.0:
+                raise ValueError(f"check_layout: min_free_fraction must lie in [0, 1], "
+                                 f"got {value!r}")
+        else:
+            raise ValueError(f"check_layout: unknown check parameter {name!r}")
 
 
 def check_layout(

@@ -247,7 +247,7 @@ def draw_layout(
     else:
         fig = ax.figure  # type: ignore[assignment]
     report = None
-    if check or show_free_space:
+    if check or show_free_space or show_access:
         from forcelayout.validate import check_layout
 
         report = check_layout(layout, agent_radius=agent_radius,

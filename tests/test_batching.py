@@ -431,3 +431,75 @@ def test_simulations_wait_for_the_samples_still_drawing():
 
     assert drive([task(0), task(1), task(3)]) == [3, 3, 3]
     assert batches == [("cheap", 2), ("cheap", 1), ("cheap", 1), ("sim", 3)]
+
+
+class _Spring:
+    """A user's term without ``join``: a pull of each row towards its own point."""
+
+    annealed = True
+
+    def __init__(self, to: np.ndarray):
+        self.to = np.asarray(to, dtype=float)
+
+    def __call__(self, state, temperature):
+        return 0.2 * temperature * (self.to - state.pos), np.zeros(state.n)
+
+
+@pytest.mark.parametrize("kind", ["anchor", "plain"])
+def test_each_sample_may_have_its_own_terms_and_obstacles(kind):
+    """``sample_terms`` / ``sample_obstacles`` give each sample what it gets alone with
+    those terms in its model and those obstacles, bit for bit (an ``AnchorTerm``
+    joined into one, a term without ``join`` called on its own sample)."""
+    from forcelayout.surfaces import AnchorTerm
+
+    plan = fl.load_plan(ROOM)
+    base = ForceModel(plan)
+    pos, yaw = _starts(base, 4)
+    rng = np.random.default_rng(7)
+    to = rng.uniform([0.5, 0.5], [4.1, 3.5], (4, base.n, 2))
+    terms = [(AnchorTerm(to[b], np.full((base.n, 2), 0.3)) if kind == "anchor"
+              else _Spring(to[b]),) for b in range(4)]
+    # a small post in some samples' rooms, where no start stands
+    post = [np.array([[x, 0.05], [x + 0.1, 0.05], [x + 0.1, 0.15], [x, 0.15]])
+            for x in (1.0, 2.0, 3.0)]
+    obstacles = [[], post[:1], post, post[1:]]
+    cfg = SolverConfig(max_steps=60)
+    together = simulate_batch(base, pos, yaw, cfg, sample_terms=terms,
+                              sample_obstacles=obstacles)
+    # the terms and the obstacles both move some sample
+    no_posts = simulate_batch(base, pos, yaw, cfg, sample_terms=terms)
+    assert not all(np.array_equal(a.pos, b.pos) for a, b in zip(together, no_posts, strict=True))
+    bare = simulate_batch(base, pos, yaw, cfg)
+    assert not any(np.array_equal(a.pos, b.pos) for a, b in zip(no_posts, bare, strict=True))
+    for b in range(4):
+        alone_model = ForceModel(plan, terms=terms[b])
+        alone = simulate(alone_model, pos[b], yaw[b], cfg, obstacles=obstacles[b])
+        assert np.array_equal(together[b].pos, alone.pos)
+        assert np.array_equal(together[b].yaw, alone.yaw)
+        assert (together[b].steps, together[b].converged) == (alone.steps, alone.converged)
+
+
+def test_sample_terms_need_as_many_terms_in_every_sample():
+    model = ForceModel(fl.load_plan(ROOM))
+    pos, yaw = _starts(model, 2)
+    with pytest.raises(ValueError, match="same number of terms"):
+        simulate_batch(model, pos, yaw, sample_terms=[(_Spring(pos[0]),), ()])
+
+
+def test_surfaces_of_a_batch_are_what_each_sample_gets_alone():
+    """Walls and ceiling planes of many samples run as batches, each sample with its own
+    spots and obstacles; every placement is the one ``place_surfaces`` gives alone."""
+    from forcelayout.surfaces import place_surfaces, place_surfaces_batch
+
+    plan = fl.examples.load_example("living_room")
+    floors = [lay.poses for lay in solve_many(plan, range(6))]
+    floors = [{k: p for k, p in f.items() if p.surface == "floor"} for f in floors]
+    batch = place_surfaces_batch(plan, floors, [np.random.default_rng(s) for s in range(6)])
+    for s, (floor, got) in enumerate(zip(floors, batch, strict=True)):
+        alone = place_surfaces(plan, floor, np.random.default_rng(s))
+        assert got.poses == alone.poses
+        assert (got.missing, got.steps, got.converged) == (alone.missing, alone.steps,
+                                                           alone.converged)
+        assert set(got.stages) == {"tops", "walls", "ceiling"}
+    assert any(p.surface.startswith("wall") for p in batch[0].poses.values())
+    assert any(p.surface == "ceiling" for p in batch[0].poses.values())

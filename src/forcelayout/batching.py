@@ -28,7 +28,7 @@ from typing import Any, ClassVar, TypeVar
 
 import numpy as np
 
-from forcelayout.forces import ForceModel
+from forcelayout.forces import ForceModel, ForceTerm
 from forcelayout.options import SolverConfig
 from forcelayout.solver import SimulationResult, simulate_batch
 
@@ -51,6 +51,11 @@ class SimRequest:
     config : SolverConfig
     fixed : ndarray of bool, shape (N,), optional
         Rows that do not move in this sample (they still push and pull).
+    obstacles : list of ndarray, optional
+        This sample's static convex obstacles (a wall's door and furniture).
+    terms : tuple of ForceTerm
+        This sample's own extra terms, after the model's (its anchors); the
+        requests of one batch have terms of the same classes, in order.
     """
 
     model: ForceModel
@@ -58,6 +63,8 @@ class SimRequest:
     yaw: np.ndarray
     config: SolverConfig
     fixed: np.ndarray | None = None
+    obstacles: list[np.ndarray] | None = None
+    terms: tuple[ForceTerm, ...] = ()
 
     #: Answered only in a round where every pending request waits too: samples still
     #: drawing or fixing starts join the batch instead of forming smaller ones later.
@@ -65,7 +72,7 @@ class SimRequest:
 
     def key(self) -> Hashable:
         """Requests with equal keys run as one batch."""
-        return (id(self.model), self.config)
+        return (id(self.model), self.config, tuple(type(t) for t in self.terms))
 
     @staticmethod
     def run(requests: list[SimRequest]) -> list[SimulationResult]:
@@ -76,8 +83,13 @@ class SimRequest:
             none = np.zeros(first.model.n, dtype=bool)
             fixed = np.stack([none if r.fixed is None else np.asarray(r.fixed, dtype=bool)
                               for r in requests])
+        obstacles = None
+        if any(r.obstacles for r in requests):
+            obstacles = [list(r.obstacles or []) for r in requests]
+        terms = [r.terms for r in requests] if first.terms else None
         return simulate_batch(first.model, np.stack([r.pos for r in requests]),
-                              np.stack([r.yaw for r in requests]), first.config, fixed=fixed)
+                              np.stack([r.yaw for r in requests]), first.config, fixed=fixed,
+                              sample_obstacles=obstacles, sample_terms=terms)
 
 
 #: A sample written as a generator: yields requests, receives answers, returns its outcome.

@@ -51,6 +51,7 @@ __all__ = [
     "ForceModel",
     "StackedForces",
     "stack_term",
+    "join_terms",
     "RuleGroup",
     "SOFT_TORQUE_ON_HARD",
 ]
@@ -211,6 +212,36 @@ class _PerSample:
         parts = [self.term(state.sample(b), temperature) for b in range(self.samples)]
         return (np.concatenate([np.asarray(f, dtype=float).reshape(-1, 2) for f, _ in parts]),
                 np.concatenate([np.asarray(t, dtype=float).reshape(-1) for _, t in parts]))
+
+
+class _EachOwn:
+    """Each sample's own term, each run on its sample of a stacked state."""
+
+    def __init__(self, terms: Sequence[ForceTerm]):
+        self.terms = list(terms)
+        self.annealed = self.terms[0].annealed
+
+    def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
+        parts = [t(state.sample(b), temperature) for b, t in enumerate(self.terms)]
+        return (np.concatenate([np.asarray(f, dtype=float).reshape(-1, 2) for f, _ in parts]),
+                np.concatenate([np.asarray(t, dtype=float).reshape(-1) for _, t in parts]))
+
+
+def join_terms(terms: Sequence[ForceTerm]) -> ForceTerm:
+    """One term for a stacked state from each sample's own term (sample ``b``'s is ``terms[b]``).
+
+    Where the terms' class has a classmethod ``join(terms)`` (an
+    :class:`~forcelayout.surfaces.AnchorTerm` does: its anchors are
+    concatenated), that gives one term for every sample; otherwise each term
+    is called on its own sample's rows. Either way sample ``b``'s forces are
+    those ``terms[b]`` gives it alone, bit for bit.
+    """
+    if len(terms) == 1:
+        return terms[0]
+    join = getattr(type(terms[0]), "join", None)
+    if callable(join) and all(type(t) is type(terms[0]) for t in terms):
+        return join(terms)
+    return _EachOwn(terms)
 
 
 def stack_term(term: ForceTerm, samples: int, rows: int) -> ForceTerm:

@@ -25,7 +25,7 @@ from forcelayout.options import Options
 from forcelayout.plan import Plan
 from forcelayout.repair import repair_task, repairing
 from forcelayout.solver import SimulationResult
-from forcelayout.surfaces import check_surfaces, surface_task
+from forcelayout.surfaces import check_surfaces, place_surfaces_batch
 from forcelayout.verdict import JudgeRequest, allowed_misses
 
 __all__ = ["Placement", "realise", "realise_batch", "prepare", "SETTLE_STARTS", "SETTLE_MIN_STEPS",
@@ -236,11 +236,11 @@ def realise_batch(plan: Plan, rngs: Sequence[np.random.Generator], opts: Options
     """:func:`realise` for many samples of one plan, their floors simulated together.
 
     Sample ``k`` draws only from ``rngs[k]``, and the floor simulations of
-    all samples (on the flat path) and their tops' simulations run as
-    batches (:mod:`forcelayout.batching`), so each placement is the one
-    :func:`realise` gives that generator alone. The
-    ``"floor"`` and ``"tops"`` stages of each placement are the batch's
-    time on them shared equally among its samples.
+    all samples (on the flat path) and their surface planes' simulations
+    run as batches (:mod:`forcelayout.batching`), so each placement is the
+    one :func:`realise` gives that generator alone. Each stage's time (on
+    the flat path) is the batch's time on it shared equally among its
+    samples.
     """
     prepare(plan)
     count = max(len(rngs), 1)
@@ -253,20 +253,11 @@ def realise_batch(plan: Plan, rngs: Sequence[np.random.Generator], opts: Options
         share = (time.perf_counter() - t0) / count
         floors = [(poses, steps, converged, {"floor": share}, repairs)
                   for poses, steps, converged, repairs in flat]
-    t1 = time.perf_counter()
-    tops: dict = {}  # the tops' force models, shared so their simulations batch
-    surfs = drive([surface_task(plan, floor[0], rng, relations=opts.relations,
-                                solver=opts.solver, models=tops)
-                   for rng, floor in zip(rngs, floors, strict=True)])
-    t2 = time.perf_counter()
-    # the samples' tops ran interleaved: each gets its share of the batch's time on tops
-    alone = sum(x.stages.get("walls", 0.0) + x.stages.get("ceiling", 0.0) for x in surfs)
-    top_share = max(t2 - t1 - alone, 0.0) / count
+    surfs = place_surfaces_batch(plan, [floor[0] for floor in floors], rngs,
+                                 relations=opts.relations, solver=opts.solver)
     out = []
     for (_, steps, converged, stages, repairs), surf in zip(floors, surfs, strict=True):
         stages = {**stages, **surf.stages}
-        if "tops" in stages:
-            stages["tops"] = top_share
         out.append(Placement(surf.poses, steps + surf.steps, converged and surf.converged,
                              surf.missing, stages, repairs))
     return out

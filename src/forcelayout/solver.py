@@ -20,14 +20,14 @@ Same inputs give the same result, bit for bit, on the same machine.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import shapely
 from Box2D import b2ChainShape, b2PolygonShape, b2World
 
-from forcelayout.forces import ForceModel
+from forcelayout.forces import ForceModel, ForceTerm, join_terms
 from forcelayout.geometry import RoomGeometry
 from forcelayout.options import SolverConfig
 from forcelayout.rules.base import State
@@ -132,6 +132,16 @@ def _at_rest(model: ForceModel, state: State, f: np.ndarray, tau: np.ndarray,
     return not (shapely.area(shapely.intersection(bodies[:, None], walls[None])) > 1e-9).any()
 
 
+def _add(terms: Sequence[ForceTerm], state: State, temperature: float, annealed: bool,
+         f: np.ndarray, tau: np.ndarray) -> None:
+    """Add the forces of the ``terms`` of this kind (annealed or not) to ``f`` and ``tau``."""
+    for term in terms:
+        if term.annealed == annealed:
+            fk, tk = term(state, temperature)
+            f += fk
+            tau += tk
+
+
 def _bodies(model: ForceModel, world: b2World, pos: np.ndarray, yaw: np.ndarray,
             fixed: np.ndarray, hulls: list) -> list:
     bodies = []
@@ -201,6 +211,8 @@ def simulate_batch(
     *,
     fixed: np.ndarray | None = None,
     obstacles: list[np.ndarray] | None = None,
+    sample_obstacles: Sequence[list[np.ndarray]] | None = None,
+    sample_terms: Sequence[Sequence[ForceTerm]] | None = None,
     callback: Callable[[int, int, np.ndarray, np.ndarray], None] | None = None,
 ) -> list[SimulationResult]:
     """Simulate many samples of the same objects together, from their own start poses.
@@ -222,6 +234,12 @@ def simulate_batch(
         As for :func:`simulate`: the same for every sample, or each sample's own.
     obstacles : optional
         As for :func:`simulate`; the same for every sample.
+    sample_obstacles : sequence of lists of ndarray, optional
+        Each sample's own obstacles (convex polygons), besides ``obstacles``.
+    sample_terms : sequence of sequences of ForceTerm, optional
+        Each sample's own extra terms, summed after the model's (a wall
+        object's spring to its own spot). Term ``j`` of every sample is of one
+        class; they are joined with :func:`~forcelayout.forces.join_terms`.
     callback : callable, optional
         ``callback(step, b, pos, yaw)`` after every step of each moving sample ``b``.
 
@@ -242,9 +260,15 @@ def simulate_batch(
     if n == 0 or count == 0:
         return [SimulationResult(pos[b], yaw[b], 0, True) for b in range(count)]
     hulls = _footprints(model)
+    walls = [list(obstacles or []) + list(sample_obstacles[b] if sample_obstacles else [])
+             for b in range(count)]  # each sample's static obstacles
+    own_terms = [list(ts) for ts in sample_terms] if sample_terms else None
+    if own_terms is not None and len({len(ts) for ts in own_terms}) > 1:
+        raise ValueError("sample_terms: every sample needs the same number of terms")
+    joined: dict[tuple[int, ...], list[ForceTerm]] = {}  # by the active samples
     worlds, bodies, moving = [], [], []
     for b in range(count):
-        world = _world(model.room, obstacles)
+        world = _world(model.room, walls[b])
         fb = fixed[b] if own else fixed
         bods = _bodies(model, world, pos[b], yaw[b], fb, hulls)
         worlds.append(world)
@@ -269,18 +293,29 @@ def simulate_batch(
         m = len(active)
         forces = model.stacked(m)
         state = forces.state(pos[active].reshape(m * n, 2), yaw[active].reshape(m * n))
+        extra: list[ForceTerm] = []
+        if own_terms is not None and own_terms[0]:
+            key = tuple(active.tolist())
+            if key not in joined:
+                joined.clear()
+                joined[key] = [join_terms([own_terms[b][j] for b in key])
+                               for j in range(len(own_terms[0]))]
+            extra = joined[key]
         if t % every == 0:
             fs, ts = forces.net(state, temperature(t, k), annealed=True)
+            _add(extra, state, temperature(t, k), True, fs, ts)
             fs_all[active] = fs.reshape(m, n, 2)
             ts_all[active] = ts.reshape(m, n)
         fp, tp = forces.net(state, 1.0, annealed=False)
+        _add(extra, state, 1.0, False, fp, tp)
         f = (fs_all[active] + fp.reshape(m, n, 2))
         tau = (ts_all[active] + tp.reshape(m, n))
         if t == 0:  # nothing acts and nothing overlaps: no step would move it
             moves = [slice(None) if all_moving else mvs[b] if own else mv
                      for b in active.tolist()]  # the rows of each sample that move
             rest = np.array([_at_rest(model, state.sample(c), f[c][moves[c]],
-                                      tau[c][moves[c]], obstacles) for c in range(m)])
+                                      tau[c][moves[c]], walls[b])
+                             for c, b in enumerate(active.tolist())])
             if rest.any():
                 converged[active[rest]] = True
                 keep = ~rest

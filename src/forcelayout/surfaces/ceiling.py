@@ -9,26 +9,33 @@ from __future__ import annotations
 
 import numpy as np
 
+from forcelayout.batching import SampleTask, SimRequest
 from forcelayout.bindings import CompiledPlan
 from forcelayout.forces import ForceModel
 from forcelayout.geometry import RoomGeometry, box_corners
 from forcelayout.layout import Pose
 from forcelayout.options import SolverConfig
-from forcelayout.solver import simulate
 from forcelayout.surfaces.plane import AnchorTerm, SurfacePlacement, plane_solver
 
 __all__ = ["place_on_ceiling"]
 
 
 def place_on_ceiling(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Generator,
-                     relations: bool, cfg: SolverConfig, out: SurfacePlacement) -> None:
-    """Place every object that hangs from the ceiling."""
+                     relations: bool, cfg: SolverConfig, out: SurfacePlacement,
+                     models: dict | None = None) -> SampleTask[None]:
+    """Place every object that hangs from the ceiling.
+
+    A sample task (:mod:`forcelayout.batching`): the simulation is a
+    :class:`~forcelayout.batching.SimRequest` with the sample's own anchors;
+    samples given the same ``models`` dict share the force model of the
+    same objects, so their simulations run as one batch.
+    """
     specs = cp.on("ceiling")
     if not specs:
         return
+    models = {} if models is None else models
     plan = cp.plan
     room = cp.room
-    plane = RoomGeometry(room.polygon, height=1.0)
     H = plan.room.height
     areas = {a.name for a in plan.areas}
     ids, anchor, stiff = [], [], []
@@ -60,9 +67,13 @@ def place_on_ceiling(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Ge
     pos = np.array(anchor, dtype=float).reshape(-1, 2)
     if len(ids) > 1:  # apart, so objects on one anchor push each other a definite way
         pos = pos + rng.normal(0.0, 0.02, (len(ids), 2))
-    model = ForceModel(cp, ids, bindings=(), room=plane, relations=relations,
-                       terms=[AnchorTerm(np.array(anchor), np.array(stiff))])
-    res = simulate(model, pos, np.zeros(len(ids)), plane_solver(cfg))
+    key = ("ceiling", id(cp), tuple(ids), relations)
+    model = models.get(key)
+    if model is None:
+        plane = RoomGeometry(room.polygon, height=1.0)
+        model = models[key] = ForceModel(cp, ids, bindings=(), room=plane, relations=relations)
+    res = yield SimRequest(model, pos, np.zeros(len(ids)), plane_solver(cfg),
+                           terms=(AnchorTerm(np.array(anchor), np.array(stiff)),))
     out.steps += res.steps
     out.converged &= res.converged
     inside = room.contains(box_corners(res.pos, res.yaw, size[:, :2] * 0.5)).all(axis=1)

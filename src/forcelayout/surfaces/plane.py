@@ -43,6 +43,20 @@ class AnchorTerm:
         f = self.stiffness * (self.anchor - state.pos) * max(float(temperature), self.floor)
         return f, np.zeros(state.n)
 
+    def stack(self, samples: int, rows: int) -> AnchorTerm:
+        """The same anchors in each of ``samples`` stacked samples."""
+        return AnchorTerm(np.tile(self.anchor, (samples, 1)), np.tile(self.stiffness, (samples, 1)),
+                          self.floor)
+
+    @classmethod
+    def join(cls, terms: list[AnchorTerm]) -> AnchorTerm:
+        """One term for stacked samples, sample ``b`` anchored as ``terms[b]`` anchors it."""
+        floors = {t.floor for t in terms}
+        if len(floors) > 1:
+            raise ValueError(f"anchor terms of one batch need one floor; got {sorted(floors)}")
+        return cls(np.concatenate([t.anchor for t in terms]),
+                   np.concatenate([t.stiffness for t in terms]), floors.pop())
+
 
 @dataclass
 class SurfacePlacement:

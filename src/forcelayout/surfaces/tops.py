@@ -80,7 +80,6 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
                rng: np.random.Generator, relations: bool, cfg: SolverConfig,
                out: SurfacePlacement, models: dict) -> SampleTask[None]:
     pw, pd, ph = cp.size([parent])[0]
-    room = RoomGeometry(rect(-pw / 2, -pd / 2, pw / 2, pd / 2), height=1.0)
     size = cp.size(kids)
     pos = np.zeros((len(kids), 2))
     yaw = np.zeros(len(kids))
@@ -92,6 +91,7 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
     key = (id(cp), parent, tuple(kids), relations)
     model = models.get(key)
     if model is None:
+        room = RoomGeometry(rect(-pw / 2, -pd / 2, pw / 2, pd / 2), height=1.0)
         model = models[key] = ForceModel(cp, kids, bindings=bindings, room=room,
                                          relations=relations)
     edge = model.physical_weights.boundary_range + 1e-3  # starts beyond the terms' reach

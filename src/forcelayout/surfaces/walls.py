@@ -15,13 +15,13 @@ import math
 
 import numpy as np
 
+from forcelayout.batching import SampleTask, SimRequest
 from forcelayout.bindings import Binding, CompiledPlan
 from forcelayout.forces import ForceModel
 from forcelayout.geometry import RoomGeometry, box_corners, front_vectors
 from forcelayout.layout import Pose
 from forcelayout.options import SolverConfig
 from forcelayout.plan import Plan
-from forcelayout.solver import simulate
 from forcelayout.surfaces.plane import AnchorTerm, SurfacePlacement, plane_solver, rect
 
 __all__ = ["EYE_LEVEL", "wall_pose", "wall_band", "free_wall_stretches", "hanging_centres",
@@ -225,8 +225,16 @@ def back_wall(room: RoomGeometry, corners: np.ndarray, front: np.ndarray, gap: f
 
 def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Generator,
                    relations: bool, cfg: SolverConfig, reach: float,
-                   out: SurfacePlacement) -> None:
-    """Place every object that hangs on a wall, one spot after the other, then settle."""
+                   out: SurfacePlacement, models: dict | None = None) -> SampleTask[None]:
+    """Place every object that hangs on a wall, one spot after the other, then settle.
+
+    A sample task (:mod:`forcelayout.batching`): each wall's settling is a
+    :class:`~forcelayout.batching.SimRequest`, with the sample's own spots
+    (anchors) and obstacles. Samples given the same ``models`` dict share the
+    force model of a wall with the same objects on it, so their simulations
+    run as one batch.
+    """
+    models = {} if models is None else models
     plan = cp.plan
     room = cp.room
     H = plan.room.height
@@ -280,7 +288,7 @@ def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gene
         own = {(u - cp.size([b.object])[0, 0] / 2, u + cp.size([b.object])[0, 0] / 2, v,
                 v + cp.size([b.object])[0, 2]) for b, u, v, _ in items}
         static = [blk for blk in blocks[wall] if blk not in own]
-        _wall_plane(cp, wall, items, static, relations, cfg, poses, out)
+        yield from _wall_plane(cp, wall, items, static, relations, cfg, poses, out, models)
 
 
 def _wall_spot(length: float, blocks: list[Block], w: float, h: float, low: float,
@@ -321,21 +329,25 @@ def _wall_spot(length: float, blocks: list[Block], w: float, h: float, low: floa
 def _wall_plane(cp: CompiledPlan, wall: int,
                 items: list[tuple[Binding, float, float, np.ndarray]], static: list[Block],
                 relations: bool, cfg: SolverConfig, poses: dict[str, Pose],
-                out: SurfacePlacement) -> None:
+                out: SurfacePlacement, models: dict) -> SampleTask[None]:
     room = cp.room
     L, H = float(room.length[wall]), cp.plan.room.height
-    plane = RoomGeometry(rect(0.0, 0.0, L, H), height=1.0)
     ids = [b.object for b, _, _, _ in items]
     size = cp.size(ids)
     pos = np.array([[u, v + size[k, 2] / 2] for k, (_, u, v, _) in enumerate(items)])
     goal = np.array([g for _, _, _, g in items])
     obstacles = [rect(max(a, 0.0), max(b0, 0.0), min(b, L), min(b1, H)) for a, b, b0, b1 in static
                  if min(b, L) - max(a, 0.0) > 1e-3 and min(b1, H) - max(b0, 0.0) > 1e-3]
-    # on the plane an object's extent is its width along the wall and its height up it
-    sizes = {o: (s[0], s[2], s[1]) for o, s in zip(ids, size.tolist(), strict=True)}
-    model = ForceModel(cp, ids, sizes=sizes, bindings=(), room=plane, relations=relations,
-                       terms=[AnchorTerm(goal[:, :2], goal[:, 2:])])
-    res = simulate(model, pos, np.zeros(len(ids)), plane_solver(cfg), obstacles=obstacles)
+    key = ("wall", id(cp), wall, tuple(ids), relations)
+    model = models.get(key)
+    if model is None:
+        # on the plane an object's extent is its width along the wall and its height up it
+        sizes = {o: (s[0], s[2], s[1]) for o, s in zip(ids, size.tolist(), strict=True)}
+        plane = RoomGeometry(rect(0.0, 0.0, L, H), height=1.0)
+        model = models[key] = ForceModel(cp, ids, sizes=sizes, bindings=(), room=plane,
+                                         relations=relations)
+    res = yield SimRequest(model, pos, np.zeros(len(ids)), plane_solver(cfg),
+                           obstacles=obstacles, terms=(AnchorTerm(goal[:, :2], goal[:, 2:]),))
     out.steps += res.steps
     out.converged &= res.converged
     final = res.pos

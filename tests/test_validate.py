@@ -633,6 +633,15 @@ def test_check_parameters_of_the_wrong_type_name_the_parameter(kwargs, says):
         fl.Options(check_kwargs=kwargs)
 
 
+def test_check_kwargs_none_keeps_the_defaults_and_a_list_is_refused():
+    import forcelayout as fl
+
+    assert fl.Options(check_kwargs=None).check_kwargs == {}
+    assert len(fl.generate("living_room", 1, seed=0, check_kwargs=None)) == 1
+    with pytest.raises(TypeError, match="check_kwargs must be a dict"):
+        fl.Options(check_kwargs=["access_clearance"])
+
+
 def test_check_parameters_judges_only_what_is_given_and_refuses_an_unknown_name():
     from forcelayout.validate import check_parameters
 

@@ -7,6 +7,7 @@ here without importing the others.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from numbers import Integral
 from typing import Any
@@ -115,7 +116,8 @@ class Options:
         Run the deterministic checks (collisions, inside the room, door
         clearance, navigability, reachability) and reject failures.
     check_kwargs : dict
-        Thresholds passed to :func:`forcelayout.validate.check_layout`.
+        Thresholds passed to :func:`forcelayout.validate.check_layout`
+        (``None`` is no change to the defaults).
     hierarchy : bool
         Place the floor by the hierarchical path (area variants assembled in
         the room, see :mod:`forcelayout.hierarchy`) instead of one flat
@@ -154,6 +156,11 @@ class Options:
                 or self.batch < 1:
             raise ValueError(f"Options.batch must be a whole number >= 1 (samples simulated "
                              f"together), got {self.batch!r}")
+        if self.check_kwargs is None:
+            object.__setattr__(self, "check_kwargs", {})
+        elif not isinstance(self.check_kwargs, Mapping):
+            raise TypeError("Options.check_kwargs must be a dict of check parameters, e.g. "
+                            f"{{'access_clearance': True}}; got {self.check_kwargs!r}")
         _check_names(self.check_kwargs)
 
 

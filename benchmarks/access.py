@@ -7,7 +7,7 @@ start poses, not by a check, so this script measures how often they fail:
 for each plan, the valid layouts of ``forcelayout.generate`` and of the
 rejection baseline (:func:`forcelayout.baselines.rejection_sample`, same
 seed), and the share of them where some object has every zone blocked, as
-the ``access`` check judges it (:func:`forcelayout.validate.check_layout`):
+the ``access`` check judges it (:func:`forcelayout.access.zone_states`):
 a zone is free where some stretch of it ``--width`` metres wide has at most
 ``--area`` m2 covered by solid objects no rule relates to its owner, or off
 the floor. Prints JSON: per plan and overall, ``blocked_pct`` of each
@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import re
 import sys
 import time
 from collections import Counter
@@ -39,24 +38,24 @@ from pathlib import Path
 
 import forcelayout as fl
 from forcelayout import baselines
+from forcelayout.access import zone_states
 from forcelayout.sampling import sample_seed, solve_many
-from forcelayout.validate import check_layout
 
 HERE = Path(__file__).resolve().parent
 
 
 def blocked_owners(layout: fl.Layout, area: float, width: float
                    ) -> list[tuple[str, list[str]]]:
-    """Objects of a layout with every access zone blocked, each with what blocks it: the
-    ``access`` check's lines (:func:`forcelayout.validate.check_layout`), read back."""
-    rep = check_layout(layout, access_clearance=True, max_access_overlap=area,
-                       access_width=width)
-    out = []
-    for line in rep.by_check().get("access", []):
-        owner, rest = line.split(" has no free side", 1)
-        who = re.findall(r"'([^']+)' \(", rest) + (["wall"] if "the wall" in rest else [])
-        out.append((owner.strip("'"), who))
-    return out
+    """Objects of a layout with every access zone blocked, each with what blocks it (an
+    object's id or ``"wall"``), as the ``access`` check judges the zones
+    (:func:`forcelayout.access.zone_states`)."""
+    zones = zone_states(layout, max_access_overlap=area, access_width=width)
+    free = {z.object for z in zones if z.free}
+    out: dict[str, list[str]] = {}
+    for z in zones:
+        if z.object not in free:
+            out.setdefault(z.object, []).extend(w for w, a in z.covered_by if a >= 0.01)
+    return list(out.items())
 
 
 def _summary(layouts: list, area: float, width: float) -> dict:

@@ -156,3 +156,18 @@ def test_access_zones_are_drawn_and_red_where_the_check_finds_none_free():
     assert tuple(desk.get_edgecolor()[:3]) == pytest.approx(red)
     plain = draw_layout(layout())
     assert not [p for p in plain.axes[0].patches if (p.get_gid() or "").startswith("access:")]
+
+
+def test_a_blocked_zone_beside_a_free_one_is_grey():
+    """The bed's side by the wall is blocked, its other side free: grey, not red, and the
+    legend says what each colour means."""
+    lay = layout(bed=Pose(0.9, 2.9, math.pi), nightstand=Pose(1.85, 3.78, math.pi))
+    fig = draw_layout(lay, show_access=True)
+    edge = {p.get_gid(): p.get_edgecolor()[:3] for p in fig.axes[0].patches
+            if (p.get_gid() or "").startswith("access:")}
+    assert edge["access:bed:right"] == pytest.approx(to_rgba("#8c8c8c")[:3])
+    assert edge["access:bed:left"] == pytest.approx(to_rgba("#1f77b4")[:3])
+    assert edge["access:desk:front"] == pytest.approx(to_rgba("#d62728")[:3])
+    legend = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert {"access zone", "access zone, blocked (another is free)",
+            "access zone, no side free"} <= set(legend)

@@ -604,6 +604,42 @@ def test_layout_zones_lie_beside_the_sides_they_serve():
         assert shapely.Polygon(c).intersection(shapely.Polygon(lay.corners("bed"))).area < 1e-9
 
 
+def test_zone_states_say_which_zones_are_free_and_what_covers_the_others():
+    from forcelayout.access import layout_zones, zone_states
+
+    lay = Layout(ACCESS_PLAN, {"wardrobe": Pose(1.5, 0.3, 0.0), "box": Pose(1.5, 1.0, 0.0),
+                               "bed": Pose(0.7, 2.0, 0.0)})
+    states = {(z.object, z.side): z for z in zone_states(lay)}
+    assert [(z.object, z.side) for z in zone_states(lay)] == [
+        (oid, side) for oid, side, _ in layout_zones(lay)]
+    assert not states["wardrobe", "front"].free
+    assert states["wardrobe", "front"].covered_by[0][0] == "box"
+    assert states["bed", "left"].covered_by == [("wall", pytest.approx(1.0))]
+    assert not states["bed", "left"].free and states["bed", "right"].free
+    assert states["bed", "right"].depth == pytest.approx(0.5)
+    # a wider person finds the bed's right side blocked too (the box at its foot)
+    wide = {(z.object, z.side): z.free for z in zone_states(lay, access_width=2.0)}
+    assert not wide["bed", "right"]
+    with pytest.raises(ValueError, match="access_width"):
+        zone_states(lay, access_width=0.0)
+
+
+@given(seed=st.integers(0, 2**16))
+@settings(max_examples=25, deadline=None)
+def test_an_object_fails_the_access_check_exactly_when_no_zone_of_it_is_free(seed):
+    from forcelayout.access import zone_states
+
+    rng = np.random.default_rng(seed)
+    lay = Layout(ACCESS_PLAN, {o.id: Pose(*rng.uniform(0.3, 2.7, 2),
+                                          float(rng.integers(4)) * 0.5 * math.pi)
+                               for o in ACCESS_PLAN.objects})
+    zones = zone_states(lay)
+    none_free = {z.object for z in zones} - {z.object for z in zones if z.free}
+    named = {f.split("'")[1] for f in check_layout(lay, access_clearance=True).failures
+             if f.startswith("access:")}
+    assert named == none_free
+
+
 def test_access_check_lets_related_objects_stand_in_a_zone():
     plan = Plan.from_dict({**ACCESS_PLAN.model_dump(), "rules": [
         {"rule": "in_front_of", "object": "box", "target": "wardrobe"}]})

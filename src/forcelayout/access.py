@@ -41,7 +41,8 @@ if TYPE_CHECKING:
     from forcelayout.layout import Layout
 
 __all__ = ["CATEGORY_ACCESS", "access_of", "access_zones", "AccessZones", "zone_boxes",
-           "related_pairs", "layout_zones", "AccessTerm", "access_term"]
+           "related_pairs", "layout_zones", "ZoneState", "zone_states", "AccessTerm",
+           "access_term"]
 
 _FRONT = ("front",)
 _LONG_SIDES = ("left", "right")
@@ -342,6 +343,70 @@ def layout_zones(layout: Layout) -> list[tuple[str, str, np.ndarray]]:
     corners = geo.corners_from_axes(centre, lateral, out, zh)
     return [(ids[r], side, c) for r, side, c in zip(o.tolist(), zones.sides, corners,
                                                     strict=True)]
+
+
+@dataclass(frozen=True)
+class ZoneState:
+    """The ``access`` check's verdict on one access zone (see :func:`zone_states`).
+
+    Attributes
+    ----------
+    object : str
+        The zone's owner.
+    side : str
+        ``"front"``, ``"left"``, ...
+    depth : float
+        Metres.
+    corners : ndarray, shape (4, 2)
+        The zone's rectangle, metres (it may reach past a wall).
+    free : bool
+        Whether some stretch of it ``access_width`` wide (the whole side if
+        narrower) has at most ``max_access_overlap`` m² covered or off the floor.
+    covered_by : list of (str, float)
+        What covers it, largest first: an object's id or ``"wall"`` (the part
+        off the floor), with the m² covered.
+    """
+
+    object: str
+    side: str
+    depth: float
+    corners: np.ndarray
+    free: bool
+    covered_by: list[tuple[str, float]]
+
+
+def zone_states(layout: Layout, *, max_access_overlap: float = 0.1, access_width: float = 0.6
+                ) -> list[ZoneState]:
+    """Each access zone of a layout's floor objects, free or blocked, as the check judges it.
+
+    The ``access`` check (``check_layout(..., access_clearance=True)``) fails
+    an object all of whose zones are blocked; this gives the verdict on every
+    zone, so a picture, a report or a benchmark can say which side is free
+    and what covers the others.
+
+    Parameters
+    ----------
+    layout : Layout
+    max_access_overlap, access_width : float
+        As for :func:`forcelayout.validate.check_layout`.
+
+    Returns
+    -------
+    list of ZoneState
+        In the order of :func:`layout_zones`.
+
+    Examples
+    --------
+    >>> import forcelayout as fl
+    >>> from forcelayout.access import zone_states
+    >>> lay = fl.solve(fl.examples.load_example("bedroom"), seed=0)
+    >>> [(z.object, z.side) for z in zone_states(lay) if z.object == "bed"]
+    [('bed', 'left'), ('bed', 'right')]
+    """
+    from forcelayout.validate.checks import zone_states as judge
+
+    return [ZoneState(*z) for z in judge(layout, max_access_overlap=max_access_overlap,
+                                         access_width=access_width)]
 
 
 def access_term(plan_objects: dict[str, SceneObject], ids: Sequence[str],

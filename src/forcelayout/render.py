@@ -167,23 +167,36 @@ def _draw_objects(ax: Axes, layout: Layout, labels: bool, failing: set[str]
     return used, cover_keys
 
 
-def _draw_access(ax: Axes, layout: Layout, failures: Sequence[str]) -> None:
-    """Dashed access zones, the part of each on the floor; red for the objects the
-    ``access`` check names."""
-    from forcelayout.access import layout_zones
+def _draw_access(ax: Axes, layout: Layout) -> set[str]:
+    """Dashed access zones, the part of each on the floor, as the ``access`` check judges
+    them (:func:`forcelayout.access.zone_states`): free, blocked beside a free one (grey),
+    or red for an object with none free. Returns the kinds drawn."""
+    from forcelayout.access import zone_states
 
-    blocked = {f.split("'")[1] for f in failures if f.startswith("access:") and "'" in f}
+    zones = zone_states(layout)
+    owners_free = {z.object for z in zones if z.free}
     floor = layout.room.shape
-    for oid, side, c in layout_zones(layout):
-        colour = to_rgba(_FAIL if oid in blocked else _ACCESS)
-        on_floor = shapely.intersection(shapely.Polygon(c), floor)  # none drawn past a wall
+    kinds = set()
+    for z in zones:
+        kind = "free" if z.free else "spare" if z.object in owners_free else "blocked"
+        kinds.add(kind)
+        colour = to_rgba(_ACCESS_COLOURS[kind])
+        on_floor = shapely.intersection(shapely.Polygon(z.corners), floor)  # none past a wall
         parts = getattr(on_floor, "geoms", [on_floor])
         for part in parts:
             if part.geom_type != "Polygon" or part.area <= 1e-9:
                 continue
             ax.add_patch(PolygonPatch(np.asarray(part.exterior.coords), closed=True,
                                       facecolor=(*colour[:3], 0.12), edgecolor=colour, lw=0.6,
-                                      ls="--", zorder=2.5, gid=f"access:{oid}:{side}"))
+                                      ls="--", zorder=2.5, gid=f"access:{z.object}:{z.side}"))
+    return kinds
+
+
+#: Access zone colours: free, blocked while another side of the object is free, and
+#: blocked with no side free (the object fails the ``access`` check).
+_ACCESS_COLOURS = {"free": _ACCESS, "spare": "#8c8c8c", "blocked": _FAIL}
+_ACCESS_LABELS = {"free": "access zone", "spare": "access zone, blocked (another is free)",
+                  "blocked": "access zone, no side free"}
 
 
 def _failing_ids(layout: Layout, failures: Sequence[str]) -> set[str]:
@@ -228,9 +241,10 @@ def draw_layout(
     agent_radius : float
         Agent radius in metres for the checks and the free-space overlay.
     show_access : bool
-        Draw each object's access zones (:func:`forcelayout.access.layout_zones`)
-        as dashed outlines, and run the ``access`` check with the others: the
-        zones of an object with none of them free are drawn red.
+        Draw each object's access zones as dashed outlines, as the ``access``
+        check judges them (:func:`forcelayout.access.zone_states`), and run that
+        check with the others: a free zone blue, a blocked one grey where
+        another side of its object is free, red where none is.
 
     Returns
     -------
@@ -262,8 +276,9 @@ def draw_layout(
                   vmin=0.0, vmax=2.0, alpha=0.45, interpolation="nearest", zorder=2,
                   extent=(ox, ox + w * report.grid, oy, oy + h * report.grid))
     used, cover_keys = _draw_objects(ax, layout, labels, _failing_ids(layout, failures))
+    access_kinds: set[str] = set()
     if show_access:
-        _draw_access(ax, layout, report.failures if report is not None else [])
+        access_kinds = _draw_access(ax, layout)
 
     pad = 0.25
     ax.set_xlim(xmin - pad, xmax + pad)
@@ -280,9 +295,11 @@ def draw_layout(
         else Patch(facecolor=c, edgecolor=_WALL, lw=0.5, label=k)
         for k, c in used.items()]
     handles.append(Line2D([], [], color=_WALL, lw=2.6, label="front"))
-    if show_access:
-        handles.append(Patch(facecolor=to_rgba(_ACCESS, 0.12), edgecolor=_ACCESS, ls="--",
-                             lw=0.6, label="access zone"))
+    for kind in _ACCESS_LABELS:
+        if kind in access_kinds or (kind == "free" and show_access):
+            c = _ACCESS_COLOURS[kind]
+            handles.append(Patch(facecolor=to_rgba(c, 0.12), edgecolor=c, ls="--", lw=0.6,
+                                 label=_ACCESS_LABELS[kind]))
     if show_free_space:
         handles.append(Patch(facecolor=colormaps["Greens"](0.5), alpha=0.45,
                              label=f"free (agent r={agent_radius:g} m)"))

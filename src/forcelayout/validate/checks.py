@@ -653,6 +653,31 @@ def _access(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
     """Per floor, a line for each object with every access zone blocked, saying by what:
     a zone is free when one stretch of it ``width`` wide has at most ``limit`` m² covered
     or off the floor."""
+    found = _zone_states(ids, boxes, polys, solid, walk, layout, limit, width)
+    if found is None:
+        return [[] for _ in range(len(boxes[0]))]
+    zones, states = found
+    o = zones.owner
+    out = []
+    for blocked, why, _ in states:
+        lines = []
+        for u in dict.fromkeys(o.tolist()):
+            mine = np.flatnonzero(o == u).tolist()
+            if blocked[mine].all():
+                sides = "; ".join(f"{zones.sides[zz]} ({zones.depth[zz]:.2f} m deep) blocked "
+                                  f"by {_covering(why[zz], limit)}" for zz in mine)
+                lines.append(f"access: {ids[u]!r} has no free side to be used from ({sides})")
+        out.append(lines)
+    return out
+
+
+def _zone_states(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
+                 solid: np.ndarray, walk: np.ndarray, layout: Layout, limit: float,
+                 width: float) -> tuple[Any, list[tuple[np.ndarray, list, np.ndarray]]] | None:
+    """The access zones of the floor rows ``ids`` (an :class:`~forcelayout.access.AccessZones`,
+    None for none) and per floor: which zones are blocked (Z,), what covers each
+    (``[(m², what), ...]``, ``what`` an object's id or None for the wall) and the zones'
+    corners (Z, 4, 2)."""
     from forcelayout.access import access_zones, related_pairs, zone_boxes
     from forcelayout.bindings import compile_plan
 
@@ -663,7 +688,7 @@ def _access(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
     zones = access_zones({o.id: o for o in plan.objects}, ids, bindings, walk,
                          related_pairs(ids, bindings))
     if zones is None:
-        return [[] for _ in range(nb)]
+        return None
     o = zones.owner
     zc, zo, zl, zh = zone_boxes(pos[:, o], right[:, o], front[:, o], half[:, o],
                                 zones.direction, zones.depth)  # (B, Z, 2)
@@ -679,7 +704,7 @@ def _access(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
     for b in range(nb):
         squares = _polygons(corners[b])
         # per zone, what covers it (area, what) and the parts of it covered or off the floor
-        why: list[list[tuple[float, str]]] = [[] for _ in range(nz)]
+        why: list[list[tuple[float, str | None]]] = [[] for _ in range(nz)]
         parts: list[list[Any]] = [[] for _ in range(nz)]
         z, s = np.nonzero(near[b])
         if len(z):
@@ -687,13 +712,13 @@ def _access(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
             for zz, ss, a, g in zip(z.tolist(), s.tolist(), shapely.area(cut).tolist(), cut,
                                     strict=True):
                 if a > 0.0:
-                    why[zz].append((a, repr(ids[solid[ss]])))
+                    why[zz].append((a, ids[solid[ss]]))
                     parts[zz].append(g)
         for zz in np.flatnonzero(~on_floor[b]).tolist():
             g = shapely.difference(squares[zz], layout.room.shape)
             a = float(shapely.area(g))
             if a > 0.0:
-                why[zz].append((a, "the wall"))
+                why[zz].append((a, None))
                 parts[zz].append(g)
         blocked = np.zeros(nz, dtype=bool)
         for zz in range(nz):
@@ -703,24 +728,45 @@ def _access(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,
             stretches = _stretches(zc[b, zz], zl[b, zz], zo[b, zz], zh[b, zz], width)
             blocked[zz] = bool(shapely.area(shapely.intersection(taken, stretches)).min()
                                > limit)
-        lines = []
-        for u in dict.fromkeys(o.tolist()):
-            mine = np.flatnonzero(o == u).tolist()
-            if blocked[mine].all():
-                sides = "; ".join(f"{zones.sides[zz]} ({zones.depth[zz]:.2f} m deep) blocked "
-                                  f"by {_covering(why[zz], limit)}" for zz in mine)
-                lines.append(f"access: {ids[u]!r} has no free side to be used from ({sides})")
-        out.append(lines)
+        out.append((blocked, why, corners[b]))
+    return zones, out
+
+
+def zone_states(layout: Layout, *, max_access_overlap: float = 0.1, access_width: float = 0.6
+                ) -> list[tuple[str, str, float, np.ndarray, bool, list[tuple[str, float]]]]:
+    """The ``access`` check's verdict on each access zone of a layout's floor objects.
+
+    Backs :func:`forcelayout.access.zone_states` (which documents it).
+    """
+    check_parameters(max_access_overlap=max_access_overlap, access_width=access_width)
+    ids, pos, yaw, half = _floor_arrays(layout)
+    if not ids:
+        return []
+    walk = np.array([layout.plan.object(i).is_walkable for i in ids], dtype=bool)
+    right, front = right_vectors(yaw)[None], front_vectors(yaw)[None]
+    corners = corners_from_axes(pos, right[0], front[0], half)[None]
+    found = _zone_states(ids, (pos[None], right, front, half[None]), _Footprints(corners),
+                         np.nonzero(~walk)[0], walk, layout, max_access_overlap, access_width)
+    if found is None:
+        return []
+    zones, [(blocked, why, zc)] = found
+    out = []
+    for zz, r in enumerate(zones.owner.tolist()):
+        cover = sorted((("wall" if w is None else w, a) for a, w in why[zz]),
+                       key=lambda t: -t[1])
+        out.append((ids[r], zones.sides[zz], float(zones.depth[zz]), zc[zz].copy(),
+                    not bool(blocked[zz]), cover))
     return out
 
 
-def _covering(why: list[tuple[float, str]], limit: float) -> str:
+def _covering(why: list[tuple[float, str | None]], limit: float) -> str:
     """What covers an access zone, largest first: ``'bed' (0.31 m²)``, ``the wall (0.19 m²
     off the floor)``."""
     why = sorted(why, key=lambda t: -t[0])
     why = [t for t in why if t[0] >= 0.01] or why[:1]  # not the slivers
-    return ", ".join(f"{what} ({_area_over(a, limit) if a > limit else _area(a)} m²"
-                     f"{' off the floor' if what == 'the wall' else ''})" for a, what in why)
+    return ", ".join(f"{'the wall' if what is None else repr(what)} "
+                     f"({_area_over(a, limit) if a > limit else _area(a)} m²"
+                     f"{' off the floor' if what is None else ''})" for a, what in why)
 
 
 def _surfaces(layout: Layout, max_overlap: float) -> list[str]:

@@ -477,12 +477,14 @@ def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: in
     Every binding the object takes part in (as object or as target) whose
     other object stands in the sample's room (``placed[b]``: the rows placed in
     sample ``b``) is judged. Candidates (B, K, 2) and (B, K) of B samples with
-    poses (B, N, 2) and (B, N); each sample's candidates are judged against its
-    own objects (one stacked state, a rule that is not ``batched`` once per
-    sample). Where samples have placed different objects, each sample's state
-    holds the rows placed in any of them, those not placed in it far outside
-    the room (no built-in rule judges a binding by objects that far away); a
-    plugin rule that is not ``batched`` is judged on each sample's own rows.
+    poses (B, N, 2) and (B, N); each candidate is judged against its own sample's
+    objects alone (one stacked state of B K rooms: no candidate stands in the line
+    of sight of another; where a rule is not ``batched``, each sample's candidates
+    stand side by side in its room and the rule is called once per sample).
+    Where samples have placed different objects, each sample's state holds the
+    rows placed in any of them, those not placed in it far outside the room
+    (no built-in rule judges a binding by objects that far away); a plugin
+    rule that is not ``batched`` is judged on each sample's own rows.
     Shape (B, K).
     """
     nb, k = cyaw.shape
@@ -507,19 +509,31 @@ def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: in
                                      yaw[bs], [list(pl)] * len(bs))
         return unmet
     at = {p: q for q, p in enumerate(rows)}
-    m = len(rows) + k  # rows of each sample's state: the placed objects, then the candidates
-    size = np.concatenate([model.size[rows], np.repeat(model.size[r:r + 1], k, 0)])
     here = pos[:, rows]
     live = None
     if sets is not None:  # rows placed in some other sample only: far outside this one's room
         live = np.array([[p in sb for p in rows] for sb in sets], dtype=bool).reshape(nb, -1)
         far = model.room.bounds[2:] + 1e6 + 10.0 * np.arange(len(rows))[:, None]
         here = np.where(live[:, :, None], here, far[None])
-    state = State(np.concatenate([here, cand], axis=1).reshape(nb * m, 2),
-                  np.concatenate([yaw[:, rows], cyaw], axis=1).reshape(nb * m),
-                  np.tile(size, (nb, 1)), model.room, model.ids, samples=nb)
-    base = np.repeat(np.arange(nb) * m, k)  # (B K,) first row of each candidate's sample
-    me = base + np.tile(np.arange(len(rows), m), nb)
+    batched = all(g.rule.batched for g, _ in judged) and nb * k > 1
+    if batched:  # each candidate in a room of its own: the placed objects and it alone
+        m = len(rows) + 1
+        size = np.concatenate([model.size[rows], model.size[r:r + 1]])
+        state = State(np.concatenate([np.repeat(here[:, None], k, 1), cand[:, :, None]],
+                                     axis=2).reshape(nb * k * m, 2),
+                      np.concatenate([np.repeat(yaw[:, None, rows], k, 1), cyaw[:, :, None]],
+                                     axis=2).reshape(nb * k * m),
+                      np.tile(size, (nb * k, 1)), model.room, model.ids, samples=nb * k)
+        base = np.arange(nb * k) * m  # (B K,) first row of each candidate's room
+        me = base + len(rows)
+    else:  # a sample's candidates side by side in its room (a rule seeing one at a time)
+        m = len(rows) + k
+        size = np.concatenate([model.size[rows], np.repeat(model.size[r:r + 1], k, 0)])
+        state = State(np.concatenate([here, cand], axis=1).reshape(nb * m, 2),
+                      np.concatenate([yaw[:, rows], cyaw], axis=1).reshape(nb * m),
+                      np.tile(size, (nb, 1)), model.room, model.ids, samples=nb)
+        base = np.repeat(np.arange(nb) * m, k)  # (B K,) first row of each candidate's sample
+        me = base + np.tile(np.arange(len(rows), m), nb)
     for g, b in judged:
         if g.j is None:
             i, j = me, None
@@ -529,7 +543,7 @@ def _unmet_rules(model: ForceModel, bindings: list[tuple[RuleGroup, int]], r: in
             i, j = base + at[other(g, b)], me
         p = ParamArrays({f: np.repeat(v[b:b + 1], nb * k) for f, v in g.params._fields.items()},
                         np.repeat(g.params.weight[b:b + 1], nb * k))
-        if g.rule.batched or nb == 1:
+        if batched or nb == 1:
             ok = g.rule.satisfied(state, i, j, p)
         else:  # a rule that sees one sample at a time
             one = ParamArrays({f: v[:k] for f, v in p._fields.items()}, p.weight[:k])

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import forcelayout as fl
 from forcelayout import rules
@@ -461,3 +462,36 @@ def test_starts_drawn_ahead_are_the_same_alone_or_in_a_batch():
         if got is not None:
             np.testing.assert_array_equal(got[0], alone[0])
             np.testing.assert_array_equal(got[1], alone[1])
+
+
+@given(seed=st.integers(0, 2**16), w=st.floats(2.0, 6.0), d=st.floats(2.0, 6.0))
+@settings(max_examples=30, deadline=None)
+def test_a_rectangular_floor_holds_a_candidate_exactly_when_shapely_says_so(seed, w, d):
+    """The start draw's quick test of a box room (corners within its bounds) agrees with
+    ``shapely.contains`` on every footprint, those pressed against a wall included."""
+    import shapely
+
+    from forcelayout.initial import _Placer
+
+    plan = fl.Plan.from_dict({
+        "name": "box", "room": {"polygon": [[0.3, -0.2], [0.3 + w, -0.2], [0.3 + w, d - 0.2],
+                                            [0.3, d - 0.2]]},
+        "objects": [{"id": "a", "category": "desk", "size": [1.0, 0.5, 0.75]}], "rules": []})
+    placer = _Placer(ForceModel(plan))
+    assert placer.box_floor
+    rng = np.random.default_rng(seed)
+    yaw = rng.integers(0, 4, (3, 40)) * 0.5 * np.pi
+    yaw[0] = rng.uniform(-np.pi, np.pi, 40)
+    c, s = np.cos(yaw), np.sin(yaw)
+    rgt, fwd = np.stack([c, s], 2), np.stack([-s, c], 2)
+    ext = placer.half[0]
+    cand = rng.uniform(placer.lo - 0.3, placer.hi + 0.3, (3, 40, 2))
+    reach = np.abs(rgt) * ext[0] + np.abs(fwd) * ext[1]  # half extent along x and y
+    cand[:, ::3, 0] = placer.lo[0] + reach[:, ::3, 0]  # pressed against a wall
+    cand[:, 1::3, 1] = placer.hi[1] - reach[:, 1::3, 1]
+    inside, _ = placer._clearance(cand, rgt, fwd, ext, [], np.zeros(0), np.zeros((3, 1, 2)),
+                                  np.zeros((3, 1)), False)
+    hr, hf = rgt * ext[0], fwd * ext[1]
+    corners = np.stack([cand - hr - hf, cand + hr - hf, cand + hr + hf, cand - hr + hf], 2)
+    exact = shapely.contains(placer.floor, shapely.polygons(corners.reshape(-1, 4, 2)))
+    assert np.array_equal(inside, exact.reshape(3, 40))

@@ -942,6 +942,12 @@ class _Placer:
         self.lo, self.hi = room.bounds[:2], room.bounds[2:]
         self.floor = room.shape
         shapely.prepare(self.floor)
+        # an axis-aligned rectangular floor: a footprint lies on it when its corners lie
+        # within its bounds (the sign of each comparison exact, as shapely's test is)
+        poly = np.asarray(room.polygon, dtype=float)
+        self.box_floor = len(poly) == 4 and bool(np.all(
+            np.isin(poly[:, 0], self.lo[:1]) | np.isin(poly[:, 0], self.hi[:1]))) and bool(
+            np.all(np.isin(poly[:, 1], self.lo[1:]) | np.isin(poly[:, 1], self.hi[1:])))
 
     def _clearance(self, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray, ext: np.ndarray,
                    solid: list[int], slack: np.ndarray, pos: np.ndarray, yaw: np.ndarray,
@@ -955,8 +961,11 @@ class _Placer:
         corners = np.stack([cand - hr - hf, cand + hr - hf, cand + hr + hf, cand - hr + hf],
                            axis=2)
         bk = cand.shape[:2]
-        inside = shapely.contains(self.floor, shapely.polygons(corners.reshape(-1, 4, 2)))
-        inside = inside.reshape(bk)
+        if self.box_floor:
+            inside = ((corners >= self.lo) & (corners <= self.hi)).all(axis=(2, 3))
+        else:
+            inside = shapely.contains(self.floor, shapely.polygons(corners.reshape(-1, 4, 2)))
+            inside = inside.reshape(bk)
         clear = np.full(bk, 0.3)
         if solid:
             oy = yaw[:, solid]  # (B, S)

@@ -455,6 +455,11 @@ def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarr
         free = rg.wall_free & clear
         # free regions, each floor's numbered on their own (no cell links two floors)
         labels, _ = ndimage.label(free, structure=_IN_PLANE) if prim else (None, 0)
+        reached = None  # (b, P, D): whether each primary object is reached from each door
+        if prim and len(rg.door_seeds):
+            at = {int(k): i for i, k in enumerate(rows)}
+            reached = _reached_from_doors(labels, dist2[:, [at[k] for k in prim]],
+                                          rg.door_seeds, np.float32(agent_radius + reach) ** 2)
         for m, b in enumerate(range(nb)[bs]):
             after: list[str] = []
             free_fraction = float((rg.floor & clear[m]).sum()) / n_floor
@@ -467,7 +472,8 @@ def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarr
                              f"of radius {agent_radius:g} m (need {need}%)")
             unreachable, blocked_by, reach_fail = _reachable(
                 ids, prim, solid, rows, dist2[m], r2, free[m],
-                None if labels is None else labels[m], rg, agent_radius + reach)
+                None if labels is None else labels[m], rg, agent_radius + reach,
+                None if reached is None else reached[m])
             after += reach_fail
             out.append((before[b], after, free_fraction, navigable_fraction, unreachable,
                         blocked_by, free[m], rg.origin.copy()))
@@ -830,17 +836,36 @@ def _wall_surface(oid: str, p, size: tuple[float, float, float], surf: str, room
     return out
 
 
+def _reached_from_doors(labels: np.ndarray, dist2: np.ndarray, seeds: np.ndarray,
+                        near2: np.float32) -> np.ndarray:
+    """Whether the agent gets within reach of each object from each door, on B floors at
+    once: ``labels`` (B, H, W) numbers the free regions (no number shared by two floors),
+    ``dist2`` (B, P, H, W) the objects' footprint distances, ``seeds`` (D, H, W) the cells
+    inside each door, ``near2`` the reach squared. Shape (B, P, D)."""
+    door_has = np.zeros((len(seeds), int(labels.max()) + 1), dtype=bool)  # (D, regions + 1)
+    for d, seed in enumerate(seeds):
+        door_has[d, labels[:, seed].ravel()] = True
+    door_has[:, 0] = False  # not a free region
+    near = np.where(dist2 <= near2, labels[:, None], 0)  # the region of each cell within reach
+    return np.stack([door_has[d][near].any(axis=(-2, -1)) for d in range(len(seeds))], axis=-1)
+
+
 def _reachable(ids: list[str], prim: list[int], solid: np.ndarray, rows: np.ndarray,
                dist2: np.ndarray, r2: np.float32, free: np.ndarray, labels: np.ndarray | None,
-               rg, near: float) -> tuple[list[str], dict[str, list[str]], list[str]]:
+               rg, near: float, reached: np.ndarray | None = None
+               ) -> tuple[list[str], dict[str, list[str]], list[str]]:
     """Whether the agent gets within ``near`` of each primary object (rows ``prim``) from a
     door; ``dist2`` holds the footprint distances of ``rows`` (the obstacles ``solid``
     first); ``labels`` numbers the free regions of this floor (in a stack of floors, after
     those of the floors before it: the numbers name regions, in the order a label of this
-    floor alone would number them)."""
+    floor alone would number them); ``reached`` (P, D), where given, is whether each is
+    reached from each door (:func:`_reached_from_doors`)."""
     if not prim:
         return [], {}, []
     seeds = rg.door_seeds
+    at = {int(k): i for i, k in enumerate(rows)}
+    if reached is not None and reached.all():
+        return [], {}, []
     n = int(labels.max())
     if len(seeds):
         sources = list(seeds)
@@ -861,14 +886,14 @@ def _reachable(ids: list[str], prim: list[int], solid: np.ndarray, rows: np.ndar
     table = np.zeros((len(door_labels), n + 1), dtype=bool)
     for k, lab in enumerate(door_labels):
         table[k, lab] = True
-    at = {int(k): i for i, k in enumerate(rows)}
     near_cells = dist2[[at[k] for k in prim]] <= np.float32(near) ** 2  # (P, H, W)
-    # the free regions each primary object can be reached in: (P, n + 1) bool
-    row, y, x = np.nonzero(near_cells & free)
-    touches = np.zeros((len(prim), n + 1), dtype=bool)
-    touches[row, labels[y, x]] = True
-    touches[:, 0] = False
-    reached = (touches[:, None, :] & table[None]).any(-1)  # (P, doors)
+    if reached is None:
+        # the free regions each primary object can be reached in: (P, n + 1) bool
+        row, y, x = np.nonzero(near_cells & free)
+        touches = np.zeros((len(prim), n + 1), dtype=bool)
+        touches[row, labels[y, x]] = True
+        touches[:, 0] = False
+        reached = (touches[:, None, :] & table[None]).any(-1)  # (P, doors)
     unreachable: list[str] = []
     blocked_by: dict[str, list[str]] = {}
     failures: list[str] = []

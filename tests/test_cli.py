@@ -43,6 +43,8 @@ def test_rules_json_says_what_each_rule_declares(capsys):
     (["-n", "-1"], "-1 is less than 1"), (["-n", "0"], "0 is less than 1"),
     (["-n", "2.5"], "'2.5' is not a whole number"),
     (["--workers", "0"], "0 is less than 1"), (["--workers", "-3"], "-3 is less than 1"),
+    (["--min-rules", "95"], "95 is not between 0 and 1"),
+    (["--min-rules", "all"], "'all' is not a number"),
 ])
 def test_generate_refuses_bad_counts_in_one_line(args, reason, tmp_path):
     proc = subprocess.run([sys.executable, "-m", "forcelayout.cli", "generate", "bedroom",
@@ -299,3 +301,41 @@ def test_validate_access_reports_blocked_access_zones(tmp_path, capsys):
     out, err = capsys.readouterr()
     assert "gone.json: cannot be read: No such file or directory" in err
     assert f"{lay}: ok" in out
+
+
+def test_min_rules_1_asks_every_accepted_layout_to_meet_every_rule(tmp_path, capsys):
+    """With 20 or more rules the default lets one go unmet, and the run says how often;
+    ``--min-rules 1`` asks for all of them."""
+    from forcelayout import Layout, load_plan
+
+    plan = str(Path(__file__).parents[1] / "benchmarks" / "plans" /
+               "living_room_family_large.json")  # 23 rules
+    loose, strict = tmp_path / "loose", tmp_path / "strict"
+    assert main(["generate", plan, "-n", "4", "--out", str(loose), "--quiet",
+                 "--format", "none"]) == 0
+    said = capsys.readouterr().out
+    met = [Layout.load(f, load_plan(loose / "plan.json")).rule_satisfaction
+           for f in sorted(loose.glob("living_room_family_large_*.json"))]
+    short = sum(m < 1.0 for m in met)
+    assert short and all(m >= 0.95 for m in met)
+    assert f"{short} of the 4 layouts leave a rule unmet, as --min-rules 0.95 allows" in said
+    assert main(["generate", plan, "-n", "4", "--out", str(strict), "--quiet",
+                 "--format", "none", "--min-rules", "1"]) == 0
+    assert "leave a rule unmet" not in capsys.readouterr().out
+    assert all(Layout.load(f, load_plan(strict / "plan.json")).rule_satisfaction == 1.0
+               for f in strict.glob("living_room_family_large_*.json"))
+    assert json.loads((strict / "summary.json").read_text())["accepted"] == 4
+
+
+def test_validate_says_a_tight_plan_is_tight(tmp_path, capsys):
+    plan = tmp_path / "tight.json"
+    plan.write_text(json.dumps({
+        "name": "tight", "room": {"polygon": [[0, 0], [2.6, 0], [2.6, 2.6], [0, 2.6]],
+                                  "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}]},
+        "objects": [{"id": "bed", "category": "bed", "size": [1.4, 2.0, 0.5]},
+                    {"id": "desk", "category": "desk", "size": [0.9, 0.5, 0.75]}],
+        "rules": [{"rule": "at_wall", "object": "bed"}]}))
+    assert main(["validate", str(plan)]) == 0
+    captured = capsys.readouterr()
+    assert "tight (see the warnings)" in captured.out
+    assert captured.err.startswith("warning: ")

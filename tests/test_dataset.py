@@ -164,6 +164,7 @@ def test_the_command_line_writes_a_dataset_and_resumes(whole, tmp_path, capsys):
     (["bedroom", "-n", "2", "--workers", "2", "--scheduler", "tcp://x:1"], "not allowed with"),
     (["no_such_plan.json", "-n", "2"], "no plan file 'no_such_plan.json'"),
     (["bedroom", "-n", "2", "--pictures", "gif"], "invalid choice: 'gif'"),
+    (["bedroom", "-n", "2", "--min-rules", "1.2"], "1.2 is not between 0 and 1"),
 ])
 def test_the_command_line_refuses_bad_input_in_one_line(args, reason, tmp_path):
     proc = subprocess.run([sys.executable, "-m", "forcelayout.cli", "dataset", *args,
@@ -172,6 +173,15 @@ def test_the_command_line_refuses_bad_input_in_one_line(args, reason, tmp_path):
     assert proc.returncode == 2
     assert reason in proc.stderr and "Traceback" not in proc.stderr
     assert not (tmp_path / "o").exists()
+
+
+def test_min_rules_reaches_the_runs_options(tmp_path, capsys):
+    assert main(["dataset", "bedroom", "-n", "1", "--out", str(tmp_path), "--quiet",
+                 "--pictures", "none", "--min-rules", "1"]) == 0
+    manifest = json.loads((tmp_path / "dataset.json").read_text())
+    assert manifest["options"]["min_rule_satisfaction"] == 1.0
+    (entry,) = [json.loads(line) for line in (tmp_path / "index.jsonl").open()]
+    assert entry["rule_satisfaction"] == 1.0
 
 
 def test_a_refused_folder_is_one_line(whole, capsys):

@@ -281,3 +281,14 @@ def test_a_bad_access_is_one_problem_that_shows_its_shape(access, says):
 def test_access_true_is_the_category_default():
     plan = Plan.model_validate(plan_with(objects__0__access=True))
     assert plan.objects[0].access is None
+
+
+def test_sizes_in_millimetres_are_named_as_such():
+    data = {"name": "mm", "room": {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]]},
+            "objects": [{"id": "bed", "category": "bed", "size": [900, 1900, 450]},
+                        {"id": "desk", "category": "desk", "size": [1.2, 0.6, 0.75]}]}
+    with pytest.raises(PlanError) as err:
+        Plan.from_dict(data)
+    lines = [p for p in str(err.value).splitlines() if "objects[0].size" in p]
+    assert lines and all("looks like centimetres or millimetres" in p for p in lines)
+    assert "objects[1]" not in str(err.value)

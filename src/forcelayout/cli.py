@@ -82,7 +82,9 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
         feas = feasibility(plan)
         print(f"plan {plan.name!r} is valid: {len(plan.objects)} objects, {len(plan.rules)} rules"
-              + ("" if feas.ok else "; but no layout can meet it"))
+              + ("; but no layout can meet it" if not feas.ok
+                 else "; tight (see the warnings)"
+                 if feas.verdict == "tight" else ""))
         for note in feas.notes:
             print(f"{'warning' if feas.ok else 'infeasible'}: {note}", file=sys.stderr)
         return 0 if feas.ok else 1
@@ -167,6 +169,26 @@ def _count(least: int):
     return parse
 
 
+def _share(text: str) -> float:
+    """An argparse type: a share between 0 and 1, refused with the reason."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not 0.0 <= value <= 1.0:
+        raise argparse.ArgumentTypeError(f"{value:g} is not between 0 and 1 (a share of the "
+                                         "plan's rules: 1 asks for every one)")
+    return value
+
+
+_share.__name__ = "share between 0 and 1"
+
+#: Help of the ``--min-rules`` option of ``generate`` and ``dataset``.
+MIN_RULES_HELP = ("share of the plan's rules every accepted layout meets (default 0.95: with "
+                  "20 or more rules one may go unmet; 1 asks for every rule, at some cost in "
+                  "yield and time on crowded plans)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``forcelayout`` command."""
     from forcelayout import __version__
@@ -191,6 +213,8 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--no-relations", action="store_true", help="ablation: no relation forces")
     g.add_argument("--no-decor", action="store_true", help="ablation: drop decor objects")
     g.add_argument("--access", action="store_true", help=ACCESS_HELP)
+    g.add_argument("--min-rules", type=_share, default=0.95, metavar="SHARE",
+                   help=MIN_RULES_HELP)
     g.add_argument("--overwrite", action="store_true",
                    help="replace the layouts of another plan that an earlier run wrote to --out "
                         "(an earlier run of the same plan is always replaced)")
@@ -212,7 +236,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     from forcelayout.dataset_cmd import add_dataset_parser
 
-    add_dataset_parser(sub, _count).set_defaults(func=_cmd_dataset)
+    add_dataset_parser(sub, _count, _share).set_defaults(func=_cmd_dataset)
 
     r = sub.add_parser("rules", help="list the rule vocabulary")
     r.add_argument("pattern", nargs="?", default="*", help="shell pattern, e.g. 'near*'")

@@ -32,7 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from forcelayout import examples
-from forcelayout.cli import ACCESS_HELP
+from forcelayout.cli import ACCESS_HELP, MIN_RULES_HELP
 from forcelayout.dataset import INDEX, MANIFEST, DatasetError, build_dataset
 from forcelayout.diagnose import feasibility_warnings_as_lines
 from forcelayout.options import Options
@@ -42,8 +42,9 @@ from forcelayout.sampling import process_pool, stop_executor
 __all__ = ["add_dataset_parser", "run_dataset"]
 
 
-def add_dataset_parser(sub: Any, count: Any) -> argparse.ArgumentParser:
-    """Add the ``dataset`` sub-command to ``sub`` (``count(k)`` parses a whole number >= k)."""
+def add_dataset_parser(sub: Any, count: Any, share: Any) -> argparse.ArgumentParser:
+    """Add the ``dataset`` sub-command to ``sub`` (``count(k)`` parses a whole number >= k,
+    ``share`` a number between 0 and 1)."""
     d = sub.add_parser("dataset", help="a resumable dataset: N layouts of each plan, written as "
                        "they are accepted", description=__doc__.split("\n\n")[0])
     d.add_argument("sources", nargs="+", metavar="SOURCE",
@@ -70,6 +71,8 @@ def add_dataset_parser(sub: Any, count: Any) -> argparse.ArgumentParser:
     d.add_argument("--max-attempts", type=count(0), default=None,
                    help="sample budget per plan (default max(4 N, N + 20))")
     d.add_argument("--access", action="store_true", help=ACCESS_HELP)
+    d.add_argument("--min-rules", type=share, default=0.95, metavar="SHARE",
+                   help=MIN_RULES_HELP)
     d.add_argument("--overwrite", action="store_true",
                    help="empty --out first if it holds another run's files")
     d.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -197,8 +200,10 @@ def run_dataset(args: argparse.Namespace) -> int:
                                        executor=executor, pictures=args.pictures,
                                        exports=exports, movable=movable,
                                        max_attempts=args.max_attempts, overwrite=args.overwrite,
-                                       options=Options(check_kwargs={"access_clearance": True}
-                                                       if args.access else {}),
+                                       options=Options(
+                                           check_kwargs={"access_clearance": True}
+                                           if args.access else {},
+                                           min_rule_satisfaction=args.min_rules),
                                        prompts=prompts,
                                        progress=not args.quiet, judge=judge,
                                        assets=args.assets, judge_timeout=args.judge_timeout)

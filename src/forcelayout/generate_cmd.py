@@ -111,7 +111,8 @@ def run_generate(args: argparse.Namespace) -> int:
         written.append(stem)
 
     opts = Options(relations=not args.no_relations, decor=not args.no_decor,
-                   check_kwargs={"access_clearance": True} if args.access else {})
+                   check_kwargs={"access_clearance": True} if args.access else {},
+                   min_rule_satisfaction=args.min_rules)
     start = time.perf_counter()
     try:
         with feasibility_warnings_as_lines():
@@ -134,8 +135,12 @@ def run_generate(args: argparse.Namespace) -> int:
     summary["rejected"] = [{"seed": r.seed, "failures": r.failures} for r in result.rejected]
     (out / "summary.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")
     print(f"{plan.name}: {summary['accepted']}/{args.n} layouts from {summary['attempted']} "
-          f"samples in {seconds:.1f} s ({summary['valid_fraction']:.0%} valid, "
+          f"samples in {seconds:.1f} s (of all samples: {summary['valid_fraction']:.0%} valid, "
           f"{summary['mean_rule_satisfaction']:.0%} of rules met) -> {out}")
+    short = sum(lay.report.rule_satisfaction < 1.0 for lay in result.layouts)
+    if short:
+        print(f"{short} of the {summary['accepted']} layouts leave a rule unmet, as "
+              f"--min-rules {args.min_rules:g} allows; --min-rules 1 asks for every rule")
     if summary["failure_reasons"]:
         print("rejections: " + ", ".join(f"{k} x{v}" for k, v in
                                          summary["failure_reasons"].items()))

@@ -70,6 +70,9 @@ PHYSICAL_TERMS = frozenset({"repulsion", "passage", "boundary", "alignment", "do
                             "access"})
 #: Largest fraction of the floor the floor objects' footprints may cover.
 MAX_FLOOR_FILL = 0.6
+
+#: A size this large (metres) in a plan most likely was given in centimetres or millimetres.
+_UNIT_SLIP = 20.0
 #: Categories (or words of a category) that are walkable floor covers by default.
 WALKABLE_CATEGORIES = frozenset({"rug", "carpet", "mat", "doormat", "runner"})
 #: Objects at most this high (metres) are walkable floor covers by default.
@@ -498,12 +501,16 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
     floor_area = 0.0
     for k, o in enumerate(plan.objects):
         w, d, h = o.size
+        # no furniture is 20 m in any direction: most likely centimetres or millimetres
+        units = ("; sizes are in metres (this looks like centimetres or millimetres)"
+                 if max(o.size) >= _UNIT_SLIP else "")
         if min(w, d) > short_side + 1e-9 or max(w, d) > long_side + 1e-9 or w * d > poly.area:
             yield Problem(f"objects[{k}].size", f"{o.id!r} ({w:g} x {d:g} m) is larger than the "
-                          f"room ({long_side:.2f} x {short_side:.2f} m); shrink it or the plan")
+                          f"room ({long_side:.2f} x {short_side:.2f} m); shrink it or the plan"
+                          + units)
         if h > room.height + 1e-9:
             yield Problem(f"objects[{k}].size", f"{o.id!r} is {h:g} m tall but the ceiling is at "
-                          f"{room.height:g} m")
+                          f"{room.height:g} m" + units)
         if o.id not in off_floor and not o.is_walkable:  # furniture stands on covers
             floor_area += w * d
     if floor_area > MAX_FLOOR_FILL * poly.area:

@@ -382,3 +382,21 @@ def test_bootstrap_edge_cases() -> None:
         M.bootstrap_ci([1.0], level=95)
     with pytest.raises(ValueError, match="n_resamples"):
         M.bootstrap_ci([1.0], n_resamples=0)
+
+
+def test_still_objects_are_those_in_one_spot_in_every_layout():
+    import dataclasses
+
+    import forcelayout as fl
+    from forcelayout.metrics import still_objects
+
+    g = fl.generate("bedroom", 6, seed=0)
+    lays = list(g)
+    assert still_objects(lays) == [] == g.summary()["still_objects"]
+    bed = lays[0].poses["bed"]
+    pinned = [Layout(lay.plan, {**lay.poses, "bed": dataclasses.replace(
+        bed, x=bed.x + 0.01 * k, yaw=bed.yaw + 0.015 * k)}) for k, lay in enumerate(lays)]
+    assert still_objects(pinned) == ["bed"]
+    assert still_objects(pinned, tolerance=0.01) == []  # 2.5 cm from the mean
+    assert still_objects(pinned, max_turn=1.0) == []  # turned up to 4.3 degrees
+    assert still_objects(pinned[:4]) == []  # too few to say

@@ -141,6 +141,12 @@ def run_generate(args: argparse.Namespace) -> int:
     if short:
         print(f"{short} of the {summary['accepted']} layouts leave a rule unmet, as "
               f"--min-rules {args.min_rules:g} allows; --min-rules 1 asks for every rule")
+    if summary["still_objects"]:
+        still = summary["still_objects"]
+        print(f"note: {', '.join(map(repr, still))} stand{'s' if len(still) == 1 else ''} in "
+              f"the same spot in all {summary['accepted']} layouts: the room and rules leave "
+              f"{'it' if len(still) == 1 else 'them'} one place (move a door or window, or "
+              "loosen a rule, for variety)")
     if summary["failure_reasons"]:
         print("rejections: " + ", ".join(f"{k} x{v}" for k, v in
                                          summary["failure_reasons"].items()))

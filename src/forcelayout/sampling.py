@@ -34,6 +34,7 @@ from forcelayout.diagnose import (
 )
 from forcelayout.errors import PlanError
 from forcelayout.layout import Layout, SampleReport
+from forcelayout.metrics.sets import still_objects
 from forcelayout.options import Options
 from forcelayout.plan import Plan
 from forcelayout.sources import load_plan
@@ -331,7 +332,9 @@ class Generation:
 
     def summary(self) -> Summary:
         """Counts, rates, timing and the most common failure reasons (``failure_reasons``:
-        how many rejected samples failed each check or rule, a sample once under each).
+        how many rejected samples failed each check or rule, a sample once under each);
+        ``still_objects``: floor objects in the same spot in every accepted layout (of
+        five or more; :func:`forcelayout.metrics.still_objects`).
 
         Returns
         -------
@@ -365,6 +368,8 @@ class Generation:
             "median_steps": float(np.median([r.steps for r in self.reports])) if self.reports
             else 0.0,
             "failure_reasons": dict(sorted(reasons.items(), key=lambda kv: -kv[1])),
+            # floor objects the plan leaves one spot: the same pose in every layout
+            "still_objects": still_objects(self.layouts),
         })
 
     def _repr_html_(self) -> str:

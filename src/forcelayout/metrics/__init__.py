@@ -17,8 +17,9 @@ One module per concept:
   ``(category, rule, category)``, judged by every registered rule that
   declares ``relation = True``.
 * :mod:`~forcelayout.metrics.sets` — :func:`pairwise`, :func:`intra_plan`
-  (all pairs of layouts of one plan) and :func:`inter_plan` (pairs of
-  layouts of different plans).
+  (all pairs of layouts of one plan), :func:`inter_plan` (pairs of
+  layouts of different plans) and :func:`still_objects` (objects that stand
+  in one spot in every layout of a set).
 * :mod:`~forcelayout.metrics.stats` — :func:`validity_rate`,
   :func:`rule_satisfaction_rate`, :func:`throughput`, :func:`bootstrap_ci`.
 * :mod:`~forcelayout.metrics.agreement` — :func:`judge_agreement`: how a
@@ -68,7 +69,7 @@ from forcelayout.metrics.relational import (
     relation_triples,
     relational_dissimilarity,
 )
-from forcelayout.metrics.sets import inter_plan, intra_plan, pairwise
+from forcelayout.metrics.sets import inter_plan, intra_plan, pairwise, still_objects
 from forcelayout.metrics.stats import (
     ConfidenceInterval,
     bootstrap_ci,
@@ -92,6 +93,7 @@ __all__ = [
     "pairwise",
     "intra_plan",
     "inter_plan",
+    "still_objects",
     "validity_rate",
     "rule_satisfaction_rate",
     "throughput",

@@ -14,7 +14,7 @@ from forcelayout.metrics.jaccard import jaccard_matrix
 from forcelayout.metrics.relational import relation_triples
 from forcelayout.metrics.topological import occupancy_masks
 
-__all__ = ["pairwise", "intra_plan", "inter_plan"]
+__all__ = ["pairwise", "intra_plan", "inter_plan", "still_objects"]
 
 #: The built-in metrics by name (or pass any callable ``(a, b) -> float``).
 MetricName = Literal["geometric", "topological", "relational"]
@@ -99,3 +99,53 @@ def inter_plan(
     iu = np.triu_indices(len(flat), 1)
     cross = label[iu[0]] != label[iu[1]]
     return float(d[iu][cross].mean())
+
+
+def still_objects(layouts: Sequence[Layout], *, tolerance: float = 0.05,
+                  max_turn: float = 5.0, least: int = 5) -> list[str]:
+    """Floor objects that stand in the same spot in every layout of a set.
+
+    A plan whose rules and room leave an object one place gives it the same
+    pose in every layout (a counter in the one corner two doors leave free):
+    what a set's diversity cannot show object by object.
+
+    Parameters
+    ----------
+    layouts : sequence of Layout
+        Layouts of one plan.
+    tolerance : float
+        Largest distance of an object's centre from its mean over the set, m.
+    max_turn : float
+        Largest difference of its heading from its first, degrees.
+    least : int
+        Fewer layouts than this say nothing: an empty list.
+
+    Returns
+    -------
+    list of str
+        Object ids, in plan order.
+
+    Examples
+    --------
+    >>> import forcelayout as fl
+    >>> from forcelayout.metrics import still_objects
+    >>> g = fl.generate("bedroom", 6, seed=0)
+    >>> still_objects(list(g))
+    []
+    >>> still_objects([g[0]] * 6)[:2]
+    ['bed', 'nightstand_1']
+    """
+    if len(layouts) < max(least, 2):
+        return []
+    out = []
+    for oid in layouts[0].ids():
+        poses = [lay.poses.get(oid) for lay in layouts]
+        if any(p is None or p.surface != "floor" for p in poses):
+            continue
+        xy = np.array([[p.x, p.y] for p in poses])
+        yaw = np.array([p.yaw for p in poses])
+        turn = np.abs((yaw - yaw[0] + np.pi) % (2 * np.pi) - np.pi)
+        if (np.linalg.norm(xy - xy.mean(0), axis=1).max() <= tolerance
+                and np.degrees(turn).max() <= max_turn):
+            out.append(oid)
+    return out

@@ -147,7 +147,22 @@ def test_floor_quick(tmp_path: Path) -> None:
     assert json.loads(out.read_text()) == result
 
 
-@pytest.mark.parametrize("script", ["paper_tables.py", "scaling.py", "suite.py", "floor.py"])
+def test_requests_quick() -> None:
+    """The share of a batch's CPU each kind of batched request takes."""
+    result, rest = run("requests.py", "--plans", "bedroom", "--samples", "4", "--markdown")
+    assert result["benchmark"] == "requests"
+    (row,) = result["plans"]
+    assert row["plan"] == "bedroom" and row["samples"] == 4 and row["ms_per_sample"] > 0
+    kinds = row["kinds"]
+    assert set(kinds) == {"simulate", "judge", "propose", "relocate"}
+    assert kinds["simulate"]["calls"] >= 1 and kinds["propose"]["requests"] >= 4
+    assert sum(k["share"] for k in kinds.values()) + row["rest_share"] == pytest.approx(1.0)
+    assert 0.0 <= row["small_share"] <= 1.0
+    assert "| bedroom |" in rest
+
+
+@pytest.mark.parametrize("script", ["paper_tables.py", "scaling.py", "suite.py", "floor.py",
+                                    "requests.py"])
 def test_scripts_reject_bad_arguments(script: str) -> None:
     bad = ["--n", "0"] if script == "paper_tables.py" else ["--samples", "0"]
     proc = subprocess.run([sys.executable, str(BENCH / script), *bad], capture_output=True,

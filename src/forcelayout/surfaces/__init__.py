@@ -78,8 +78,8 @@ def place_surfaces(
     SurfacePlacement
         All poses; objects that could not be placed are in ``missing``.
     """
-    return drive([surface_task(plan, floor, rng, relations=relations, solver=solver,
-                               reach=reach)])[0]
+    return place_surfaces_batch(plan, [floor], [rng], relations=relations, solver=solver,
+                                reach=reach)[0]
 
 
 def surface_task(

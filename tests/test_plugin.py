@@ -75,3 +75,63 @@ def test_custom_rule_example_runs(tmp_path):
                           cwd=tmp_path, capture_output=True, text=True, timeout=300, env=env)
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert "look_out_window(armchair): met" in proc.stdout
+
+
+def _broken(kind: str):
+    """A plugin rule (turns its object to face +y) broken in one way."""
+    import numpy as np
+
+    from forcelayout.rules import Rule
+
+    class Broken(Rule):
+        """Faces +y, broken."""
+
+        target = "none"
+        batched = True
+
+        def force(self, state, i, j, p):
+            err = np.arctan2(state.front[i, 0], state.front[i, 1])  # minus the heading
+            tau = np.clip(err, -1.0, 1.0)  # err = -yaw: turns back to yaw 0
+            if kind == "shape":
+                return np.zeros(len(i)), tau  # F of shape (B,)
+            if kind == "nan":
+                return np.zeros((len(i), 2)) * np.nan, tau
+            if kind == "sign":
+                return np.zeros((len(i), 2)), -tau  # turns away
+            return np.zeros((len(i), 2)), tau
+
+        def satisfied(self, state, i, j, p):
+            err = np.abs(np.arctan2(state.front[i, 0], state.front[i, 1]))
+            return err if kind == "float" else err <= np.radians(20)
+
+    Broken.name = f"faces_north_{kind}"
+    return Broken
+
+
+@pytest.mark.parametrize("kind, says", [
+    ("float", r"satisfied\(\) must return a bool array of shape \(\d+,\), got float64"),
+    ("shape", r"force\(\) returned F of shape \(\d+,\) and tau"),
+    ("nan", r"force\(\) returned non-finite values"),
+])
+def test_a_plugin_rule_that_returns_the_wrong_thing_is_named_while_sampling(kind, says):
+    """Not a rule reported met that is not, a broadcast error or a failure of geometry
+    far away: the rule, what it returned and what it should."""
+    from forcelayout.errors import RuleOutputError
+    from forcelayout.rules import register, unregister
+
+    name = f"faces_north_{kind}"
+    register(name)(_broken(kind))
+    try:
+        plan = {**PLAN, "rules": [{"rule": name, "object": "armchair"}]}
+        with pytest.raises(RuleOutputError, match=f"rule '{name}': {says}"):
+            fl.generate(plan, 2, seed=0)
+    finally:
+        unregister(name)
+
+
+def test_check_rule_catches_a_torque_that_turns_the_wrong_way():
+    from forcelayout.testing import RuleConformanceError
+
+    check_rule(_broken("ok"), n_states=20)
+    with pytest.raises(RuleConformanceError, match="pass less often"):
+        check_rule(_broken("sign"), n_states=20)

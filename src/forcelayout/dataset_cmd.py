@@ -203,7 +203,9 @@ def run_dataset(args: argparse.Namespace) -> int:
                                        options=Options(
                                            check_kwargs={"access_clearance": True}
                                            if args.access else {},
-                                           min_rule_satisfaction=args.min_rules),
+                                           min_rule_satisfaction=getattr(
+                                               args, "min_rules",
+                                               Options().min_rule_satisfaction)),
                                        prompts=prompts,
                                        progress=not args.quiet, judge=judge,
                                        assets=args.assets, judge_timeout=args.judge_timeout)

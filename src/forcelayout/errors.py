@@ -8,7 +8,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["Problem", "InputError", "PlanError", "UnknownRuleError", "MissingExtraError"]
+__all__ = ["Problem", "InputError", "PlanError", "UnknownRuleError", "MissingExtraError",
+           "RuleOutputError"]
 
 
 class InputError(Exception):
@@ -71,3 +72,12 @@ class UnknownRuleError(LookupError):
 
 class MissingExtraError(ImportError):
     """An optional subpackage was imported without its pip extra installed."""
+
+
+class RuleOutputError(ValueError):
+    """A plugin rule's ``force()`` or ``satisfied()`` returned what no rule may return.
+
+    Raised while sampling, naming the rule, what it returned and what it
+    should return (``forcelayout.testing.check_rule`` checks a rule more
+    thoroughly before any run).
+    """

@@ -79,6 +79,11 @@ def _draw(layout: Layout, path: Path, access: bool = False) -> None:
     layout.picture(path, show_access=access)
 
 
+def _min_rules(args: argparse.Namespace) -> float:
+    """``--min-rules`` (the default acceptance where a caller's namespace has none)."""
+    return float(getattr(args, "min_rules", Options().min_rule_satisfaction))
+
+
 def run_generate(args: argparse.Namespace) -> int:
     """Run the ``generate`` sub-command; returns the exit status."""
     plan = _plan_from_args(args)
@@ -112,7 +117,7 @@ def run_generate(args: argparse.Namespace) -> int:
 
     opts = Options(relations=not args.no_relations, decor=not args.no_decor,
                    check_kwargs={"access_clearance": True} if args.access else {},
-                   min_rule_satisfaction=args.min_rules)
+                   min_rule_satisfaction=_min_rules(args))
     start = time.perf_counter()
     try:
         with feasibility_warnings_as_lines():
@@ -140,7 +145,7 @@ def run_generate(args: argparse.Namespace) -> int:
     short = sum(lay.report.rule_satisfaction < 1.0 for lay in result.layouts)
     if short:
         print(f"{short} of the {summary['accepted']} layouts leave a rule unmet, as "
-              f"--min-rules {args.min_rules:g} allows; --min-rules 1 asks for every rule")
+              f"--min-rules {_min_rules(args):g} allows; --min-rules 1 asks for every rule")
     if summary["still_objects"]:
         still = summary["still_objects"]
         print(f"note: {', '.join(map(repr, still))} stand{'s' if len(still) == 1 else ''} in "

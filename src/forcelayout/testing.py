@@ -32,6 +32,7 @@ In a test suite::
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
@@ -352,11 +353,18 @@ def _opening_specs(o: Any, room: RoomGeometry) -> list[tuple[int, float, float]]
     return list(zip(o.wall.tolist(), offset.tolist(), o.width.tolist(), strict=True))
 
 
+def _raw(rule: Rule, method: str) -> Any:
+    """The rule's own ``force`` or ``satisfied``, without the engine's check of a plugin's
+    results (check_rule says more about what is wrong)."""
+    fn = getattr(type(rule), method)
+    return functools.partial(getattr(fn, "__wrapped__", fn), rule)
+
+
 def _call_force(rule: Rule, state: State, i: np.ndarray, j: np.ndarray | None,
                 p: ParamArrays, where: str) -> tuple[np.ndarray, np.ndarray]:
     b = len(i)
     with np.errstate(all="ignore"):  # non-finite results are reported below
-        out = rule.force(state, i, j, p)
+        out = _raw(rule, "force")(state, i, j, p)
     if not (isinstance(out, tuple) and len(out) == 2):
         raise RuleConformanceError(
             f"{rule.name}.force() must return a tuple (F, tau), got {type(out).__name__} "
@@ -379,7 +387,7 @@ def _call_force(rule: Rule, state: State, i: np.ndarray, j: np.ndarray | None,
 
 def _call_satisfied(rule: Rule, state: State, i: np.ndarray, j: np.ndarray | None,
                     p: ParamArrays, where: str) -> np.ndarray:
-    ok = rule.satisfied(state, i, j, p)
+    ok = _raw(rule, "satisfied")(state, i, j, p)
     if not isinstance(ok, np.ndarray) or ok.dtype != np.bool_ or ok.shape != (len(i),):
         shape = getattr(ok, "shape", None)
         dtype = getattr(ok, "dtype", type(ok).__name__)
@@ -456,6 +464,17 @@ def check_rule(
                         f"a {inst.surface!r} surface")
     if n_states < 1 or steps < 0:
         raise ValueError("check_rule(): n_states >= 1 and steps >= 0")
+    from forcelayout.errors import RuleOutputError
+
+    try:
+        return _check(inst, n_states, seed, steps, params, max_satisfied_force)
+    except RuleOutputError as e:  # from a stacked or nudged call the checks below make
+        raise RuleConformanceError(str(e)) from None
+
+
+def _check(inst: Rule, n_states: int, seed: int, steps: int, params: dict[str, Any] | None,
+           max_satisfied_force: float) -> dict[str, Any]:
+    """The body of :func:`check_rule`."""
     try:
         model = inst.Params.model_validate(params or {})
     except Exception as e:
@@ -528,7 +547,7 @@ def check_rule(
         _check_margin(inst, state, i, j, params_for(len(i)), ok, rng, max_satisfied_force, where)
     frac_before = float(np.mean(np.concatenate(before)))
     frac_after = float(np.mean(np.concatenate(after)))
-    if frac_after < frac_before - 0.1:
+    if frac_after < min(frac_before - 0.02, 0.9 * frac_before):  # more than noise
         raise RuleConformanceError(
             f"{inst.name}: following its own force for {steps} steps made its check pass less "
             f"often ({frac_before:.0%} of bindings satisfied before, {frac_after:.0%} after). "

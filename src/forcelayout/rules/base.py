@@ -10,6 +10,7 @@ local +x ("right-hand side" seen from behind the object) is
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, ClassVar, Literal
 
@@ -593,6 +594,11 @@ class Rule:
             if value is not None and not (isinstance(value, str) and value.isidentifier()):
                 raise TypeError(f"{cls.__qualname__}.{attr} must be None or a name such as "
                                 f"'behind', got {value!r}")
+        if not cls.__module__.startswith("forcelayout."):  # a plugin: its results are checked
+            for method in ("force", "satisfied"):
+                fn = own.get(method)
+                if callable(fn) and not hasattr(fn, "__wrapped__"):
+                    setattr(cls, method, _checked(method, fn))
         cls.aliases = own.get("aliases", ())  # names are not inherited
         if "force" in own and "batched" not in own:  # a new force says for itself
             cls.batched = False
@@ -647,3 +653,55 @@ class Rule:
 
     def __repr__(self) -> str:
         return f"<rule {self.name!r} ({self.kind})>"
+
+
+_CHECK_HINT = "forcelayout.testing.check_rule() checks a rule before any run (docs/rules.md)"
+
+
+def _checked(method: str, fn: Any) -> Any:
+    """A plugin rule's ``force`` or ``satisfied``, its result checked on every call."""
+    if method == "force":
+        @functools.wraps(fn)
+        def force(self: Rule, state: State, i: np.ndarray, j: np.ndarray | None,
+                  p: ParamArrays) -> tuple[np.ndarray, np.ndarray]:
+            return _force_result(self, fn(self, state, i, j, p), len(i))
+        return force
+
+    @functools.wraps(fn)
+    def satisfied(self: Rule, state: State, i: np.ndarray, j: np.ndarray | None,
+                  p: ParamArrays) -> np.ndarray:
+        return _satisfied_result(self, fn(self, state, i, j, p), len(i))
+    return satisfied
+
+
+def _force_result(rule: Rule, out: Any, b: int) -> tuple[np.ndarray, np.ndarray]:
+    """``out`` as ``(F, tau)`` of shapes (b, 2) and (b,), finite; else a RuleOutputError."""
+    from forcelayout.errors import RuleOutputError
+
+    name = getattr(rule, "name", type(rule).__name__)
+    if not (isinstance(out, tuple) and len(out) == 2):
+        raise RuleOutputError(f"rule {name!r}: force() must return a tuple (F, tau), got "
+                              f"{type(out).__name__}; {_CHECK_HINT}")
+    f, tau = np.asarray(out[0]), np.asarray(out[1])
+    if f.shape != (b, 2) or tau.shape != (b,):
+        raise RuleOutputError(f"rule {name!r}: force() returned F of shape {f.shape} and tau "
+                              f"of shape {tau.shape} for {b} bindings; expected ({b}, 2) and "
+                              f"({b},), one force and one torque per binding; {_CHECK_HINT}")
+    if not (np.isfinite(f).all() and np.isfinite(tau).all()):
+        raise RuleOutputError(f"rule {name!r}: force() returned non-finite values (NaN or "
+                              "infinite); guard divisions by distances that can be zero (e.g. "
+                              f"objects at the same centre); {_CHECK_HINT}")
+    return f, tau
+
+
+def _satisfied_result(rule: Rule, out: Any, b: int) -> np.ndarray:
+    """``out`` as a bool array of shape (b,); else a RuleOutputError."""
+    from forcelayout.errors import RuleOutputError
+
+    ok = np.asarray(out)
+    if ok.dtype != np.bool_ or ok.shape != (b,):
+        name = getattr(rule, "name", type(rule).__name__)
+        raise RuleOutputError(f"rule {name!r}: satisfied() must return a bool array of shape "
+                              f"({b},), got {ok.dtype} with shape {ok.shape}; e.g. return "
+                              f"gap <= p.distance, not the gap itself; {_CHECK_HINT}")
+    return ok

@@ -167,8 +167,12 @@ def test_nothing_asked_for_is_no_failure():
 def test_bad_arguments_fail_clearly():
     with pytest.raises(ValueError, match="n must be"):
         fl.generate(SMALL, -1)
-    with pytest.raises(TypeError, match="unknown option"):
+    with pytest.raises(TypeError, match="unknown keyword argument.*Did you mean 'relations'"):
         fl.generate(SMALL, 1, relatons=False)
+    with pytest.raises(TypeError, match=r"generate: .*\['seeds'\]. Did you mean 'seed'"):
+        fl.generate(SMALL, 1, seeds=3)  # the function's own arguments are named too
+    with pytest.raises(TypeError, match="solve_many: .*Did you mean 'batch'"):
+        fl.sampling.solve_many(SMALL, [0], bacth=8)
 
 
 def test_layout_json_round_trip(small_run, tmp_path):

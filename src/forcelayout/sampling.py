@@ -92,7 +92,7 @@ def solve(
     Layout
         Its ``report`` says whether it passed the checks and, if not, why.
     """
-    opts = _options(options, kwargs)
+    opts = _options(options, kwargs, "solve", ("seed", "options"))
     if not isinstance(seed, int | np.integer) or seed < 0:
         raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
     plan = _plan_for(load_plan(plan), opts)
@@ -125,7 +125,7 @@ def solve_many(
     list of Layout
         One per seed, in order, each with its ``report``.
     """
-    opts = _options(options, kwargs)
+    opts = _options(options, kwargs, "solve_many", ("seeds", "options"))
     seeds = [int(s) for s in seeds]
     bad = [s for s in seeds if s < 0]
     if bad:
@@ -176,13 +176,22 @@ def _judge(layout: Layout, opts: Options) -> None:
     report.valid = not failures
 
 
-def _options(options: Options | None, kwargs: dict[str, Any]) -> Options:
+def _options(options: Options | None, kwargs: dict[str, Any], caller: str = "",
+             own: Sequence[str] = ()) -> Options:
+    """``options`` with the fields given as keyword arguments (these win); an unknown name
+    is refused with the closest of the Options fields and the caller's ``own`` arguments."""
     opts = options or Options()
     if kwargs:
-        unknown = set(kwargs) - set(Options.__dataclass_fields__)
+        fields = sorted(Options.__dataclass_fields__)
+        unknown = sorted(set(kwargs) - set(fields))
         if unknown:
-            raise TypeError(f"unknown option(s) {sorted(unknown)}; "
-                            f"valid: {sorted(Options.__dataclass_fields__)}")
+            import difflib
+
+            close = difflib.get_close_matches(unknown[0], [*own, *fields], n=1)
+            hint = f" Did you mean {close[0]!r}?" if close else ""
+            raise TypeError(f"{caller + ': ' if caller else ''}unknown keyword argument(s) "
+                            f"{unknown}.{hint} Its own: {', '.join(own) or 'none'}; the "
+                            f"Options fields: {', '.join(fields)}")
         opts = replace(opts, **kwargs)
     return opts
 
@@ -681,7 +690,9 @@ def generate(
     """
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 0:
         raise ValueError(f"n must be a whole number >= 0, got {n!r}")
-    opts = _options(options, kwargs)
+    opts = _options(options, kwargs, "generate",
+                    ("seed", "executor", "max_attempts", "distinct_tol", "progress", "on_layout",
+                     "options"))
     plan = load_plan(plan)
     from forcelayout.pipeline import prepare
 

@@ -670,7 +670,8 @@ def generate(
         Called with each accepted layout as soon as it is accepted (in
         order), e.g. to write it to disk while the run goes on.
     options : Options, optional
-        Or its fields as keyword arguments (``relations=False``, ...).
+        Or its fields as keyword arguments (``relations=False``, ...); given
+        both, the keyword arguments replace those fields of ``options``.
 
     Returns
     -------

@@ -201,21 +201,9 @@ class PhysicalTerm:
                         self.entry)
 
 
-class _PerSample:
-    """A term that sees one sample at a time, run once per sample of a stacked state."""
-
-    def __init__(self, term: ForceTerm, samples: int):
-        self.term, self.samples = term, samples
-        self.annealed = term.annealed
-
-    def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
-        parts = [self.term(state.sample(b), temperature) for b in range(self.samples)]
-        return (np.concatenate([np.asarray(f, dtype=float).reshape(-1, 2) for f, _ in parts]),
-                np.concatenate([np.asarray(t, dtype=float).reshape(-1) for _, t in parts]))
-
-
 class _EachOwn:
-    """Each sample's own term, each run on its sample of a stacked state."""
+    """Each sample's own term, each run on its sample of a stacked state (the same term
+    for every sample: a term without a stacked form, called once per sample)."""
 
     def __init__(self, terms: Sequence[ForceTerm]):
         self.terms = list(terms)
@@ -256,7 +244,7 @@ def stack_term(term: ForceTerm, samples: int, rows: int) -> ForceTerm:
     stack = getattr(term, "stack", None)
     if callable(stack):
         return stack(samples, rows)
-    return _PerSample(term, samples)
+    return _EachOwn([term] * samples)
 
 
 class ForceModel:

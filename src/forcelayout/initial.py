@@ -942,12 +942,9 @@ class _Placer:
         self.lo, self.hi = room.bounds[:2], room.bounds[2:]
         self.floor = room.shape
         shapely.prepare(self.floor)
-        # an axis-aligned rectangular floor: a footprint lies on it when its corners lie
-        # within its bounds (the sign of each comparison exact, as shapely's test is)
-        poly = np.asarray(room.polygon, dtype=float)
-        self.box_floor = len(poly) == 4 and bool(np.all(
-            np.isin(poly[:, 0], self.lo[:1]) | np.isin(poly[:, 0], self.hi[:1]))) and bool(
-            np.all(np.isin(poly[:, 1], self.lo[1:]) | np.isin(poly[:, 1], self.hi[1:])))
+        # a floor that is its own bounding box: a footprint lies on it when its corners lie
+        # within the bounds (the sign of each comparison exact, as shapely's test is)
+        self.box_floor = bool(self.floor.equals(shapely.box(*room.bounds)))
 
     def _clearance(self, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray, ext: np.ndarray,
                    solid: list[int], slack: np.ndarray, pos: np.ndarray, yaw: np.ndarray,

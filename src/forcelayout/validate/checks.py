@@ -860,40 +860,33 @@ def _reachable(ids: list[str], prim: list[int], solid: np.ndarray, rows: np.ndar
     those of the floors before it: the numbers name regions, in the order a label of this
     floor alone would number them); ``reached`` (P, D), where given, is whether each is
     reached from each door (:func:`_reached_from_doors`)."""
-    if not prim:
+    if not prim or (reached is not None and reached.all()):
         return [], {}, []
     seeds = rg.door_seeds
-    at = {int(k): i for i, k in enumerate(rows)}
-    if reached is not None and reached.all():
-        return [], {}, []
     n = int(labels.max())
     if len(seeds):
         sources = list(seeds)
-        door_labels = [np.unique(labels[s & free]) for s in seeds]
-        door_labels = [lab[lab > 0] for lab in door_labels]
         names = [f"door {k}" for k in range(len(seeds))]
-    else:
-        if n == 0:
-            door_labels = [np.zeros(0, dtype=int)]
-            sources = [np.zeros(free.shape, dtype=bool)]
-        else:
+    else:  # no door: from the largest free region
+        sources = [np.zeros(free.shape, dtype=bool)]
+        if n:
             sizes = np.bincount(labels.ravel(), minlength=n + 1)
             sizes[0] = 0
-            door_labels = [np.array([int(sizes.argmax())])]
-            sources = [labels == door_labels[0][0]]
+            sources = [labels == int(sizes.argmax())]
         names = ["the largest free region"]
-    # label membership per region: (n + 1,) bool table per door
-    table = np.zeros((len(door_labels), n + 1), dtype=bool)
-    for k, lab in enumerate(door_labels):
-        table[k, lab] = True
+    at = {int(k): i for i, k in enumerate(rows)}
     near_cells = dist2[[at[k] for k in prim]] <= np.float32(near) ** 2  # (P, H, W)
     if reached is None:
-        # the free regions each primary object can be reached in: (P, n + 1) bool
+        # the free regions each source holds, and those each primary object can be reached
+        # in: (sources, n + 1) and (P, n + 1) bool
+        table = np.zeros((len(sources), n + 1), dtype=bool)
+        for k, source in enumerate(sources):
+            table[k, labels[source & free]] = True
         row, y, x = np.nonzero(near_cells & free)
         touches = np.zeros((len(prim), n + 1), dtype=bool)
         touches[row, labels[y, x]] = True
-        touches[:, 0] = False
-        reached = (touches[:, None, :] & table[None]).any(-1)  # (P, doors)
+        table[:, 0] = touches[:, 0] = False
+        reached = (touches[:, None, :] & table[None]).any(-1)  # (P, sources)
     unreachable: list[str] = []
     blocked_by: dict[str, list[str]] = {}
     failures: list[str] = []

@@ -403,16 +403,10 @@ def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarr
     fractions, the unreachable objects, what blocks them, the free mask and its origin."""
     room = layout.room
     plan = layout.plan
-    nb, n = yaw.shape
-    walk = np.array([plan.object(i).is_walkable for i in ids], dtype=bool)
+    nb = len(yaw)
     height = np.array([plan.object(i).size[2] for i in ids], dtype=float)
-    right, front = right_vectors(yaw), front_vectors(yaw)  # (B, N, 2)
-    halves = np.broadcast_to(half, (nb, n, 2))
-    corners = corners_from_axes(pos.reshape(-1, 2), right.reshape(-1, 2),
-                                front.reshape(-1, 2), halves.reshape(-1, 2)).reshape(nb, n, 4, 2)
-    polys = _Footprints(corners)
-    solid = np.nonzero(~walk)[0]  # floor obstacles
-    boxes = (pos, right, front, halves)
+    walk, solid, boxes, corners, polys = _floor_boxes(plan, ids, pos, yaw, half)
+    halves = boxes[3]
 
     before: list[list[str]] = [[] for _ in range(nb)]
     for b, lines in enumerate(_collisions(ids, boxes, polys, solid, max_overlap)):
@@ -478,6 +472,22 @@ def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarr
             out.append((before[b], after, free_fraction, navigable_fraction, unreachable,
                         blocked_by, free[m], rg.origin.copy()))
     return out
+
+
+def _floor_boxes(plan, ids: list[str], pos: np.ndarray, yaw: np.ndarray, half: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...], np.ndarray,
+                            _Footprints]:
+    """The footprints of B floors of objects ``ids`` at poses (B, N, 2) and (B, N): which
+    rows are walkable covers, the solid rows (floor obstacles), the boxes ``(pos, right,
+    front, half)`` (B, N, 2) each, their corners (B, N, 4, 2) and their polygons."""
+    nb, n = yaw.shape
+    walk = np.array([plan.object(i).is_walkable for i in ids], dtype=bool)
+    right, front = right_vectors(yaw), front_vectors(yaw)  # (B, N, 2)
+    halves = np.broadcast_to(half, (nb, n, 2))
+    corners = corners_from_axes(pos.reshape(-1, 2), right.reshape(-1, 2),
+                                front.reshape(-1, 2), halves.reshape(-1, 2)).reshape(nb, n, 4, 2)
+    return walk, np.nonzero(~walk)[0], (pos, right, front, halves), corners, \
+        _Footprints(corners)
 
 
 #: 4-connected within each floor of a stack (B, H, W), never from one floor to the next.
@@ -748,11 +758,9 @@ def zone_states(layout: Layout, *, max_access_overlap: float = 0.1, access_width
     ids, pos, yaw, half = _floor_arrays(layout)
     if not ids:
         return []
-    walk = np.array([layout.plan.object(i).is_walkable for i in ids], dtype=bool)
-    right, front = right_vectors(yaw)[None], front_vectors(yaw)[None]
-    corners = corners_from_axes(pos, right[0], front[0], half)[None]
-    found = _zone_states(ids, (pos[None], right, front, half[None]), _Footprints(corners),
-                         np.nonzero(~walk)[0], walk, layout, max_access_overlap, access_width)
+    walk, solid, boxes, _, polys = _floor_boxes(layout.plan, ids, pos[None], yaw[None], half)
+    found = _zone_states(ids, boxes, polys, solid, walk, layout, max_access_overlap,
+                         access_width)
     if found is None:
         return []
     zones, [(blocked, why, zc)] = found

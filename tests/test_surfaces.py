@@ -345,3 +345,22 @@ def test_a_child_at_the_wall_on_a_top_stands_at_the_wall_behind_its_parent(seed)
     assert layout.poses["tv"].surface == "tv_stand"
     met = {r.label: r.satisfied for r in layout.rule_report()}
     assert met["at_wall(tv_stand)"] and met["at_wall(tv)"]
+
+
+def test_a_plane_model_is_made_once_per_key_and_shared():
+    """Samples that share ``models`` share a plane's force model, so their simulations of it
+    batch; the model's room is the plane."""
+    import numpy as np
+
+    from forcelayout.bindings import compile_plan
+    from forcelayout.surfaces.plane import plane_model, rect
+
+    cp = compile_plan(fl.examples.load_example("bedroom"))
+    models: dict = {}
+    one = plane_model(models, ("wall", 1), cp, ["bed"], rect(0.0, 0.0, 4.0, 2.7), True)
+    assert plane_model(models, ("wall", 1), cp, ["bed"], rect(0.0, 0.0, 4.0, 2.7), True) is one
+    other = plane_model(models, ("wall", 2), cp, ["bed"], rect(0.0, 0.0, 3.0, 2.7), True,
+                        sizes={"bed": (2.0, 0.5, 1.0)})
+    assert other is not one and len(models) == 2
+    np.testing.assert_allclose(other.room.bounds, [0.0, 0.0, 3.0, 2.7])
+    np.testing.assert_allclose(other.size, [[2.0, 0.5, 1.0]])

@@ -11,11 +11,10 @@ import numpy as np
 
 from forcelayout.batching import SampleTask, SimRequest
 from forcelayout.bindings import CompiledPlan
-from forcelayout.forces import ForceModel
-from forcelayout.geometry import RoomGeometry, box_corners
+from forcelayout.geometry import box_corners
 from forcelayout.layout import Pose
 from forcelayout.options import SolverConfig
-from forcelayout.surfaces.plane import AnchorTerm, SurfacePlacement, plane_solver
+from forcelayout.surfaces.plane import AnchorTerm, SurfacePlacement, plane_model, plane_solver
 
 __all__ = ["place_on_ceiling"]
 
@@ -67,11 +66,8 @@ def place_on_ceiling(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Ge
     pos = np.array(anchor, dtype=float).reshape(-1, 2)
     if len(ids) > 1:  # apart, so objects on one anchor push each other a definite way
         pos = pos + rng.normal(0.0, 0.02, (len(ids), 2))
-    key = ("ceiling", id(cp), tuple(ids), relations)
-    model = models.get(key)
-    if model is None:
-        plane = RoomGeometry(room.polygon, height=1.0)
-        model = models[key] = ForceModel(cp, ids, bindings=(), room=plane, relations=relations)
+    model = plane_model(models, ("ceiling", id(cp), tuple(ids), relations), cp, ids,
+                        room.polygon, relations)
     res = yield SimRequest(model, pos, np.zeros(len(ids)), plane_solver(cfg),
                            terms=(AnchorTerm(np.array(anchor), np.array(stiff)),))
     out.steps += res.steps

@@ -1,5 +1,5 @@
-"""What every surface plane shares: the anchor force term, the plane's solver settings,
-rectangles, and the result record of the surface stage."""
+"""What every surface plane shares: the anchor force term, the plane's solver settings and
+force model, rectangles, and the result record of the surface stage."""
 
 from __future__ import annotations
 
@@ -7,11 +7,14 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from forcelayout.bindings import Binding, CompiledPlan
+from forcelayout.forces import ForceModel
+from forcelayout.geometry import RoomGeometry
 from forcelayout.layout import Pose
 from forcelayout.options import SolverConfig
 from forcelayout.rules.base import State
 
-__all__ = ["AnchorTerm", "SurfacePlacement", "rect", "plane_solver"]
+__all__ = ["AnchorTerm", "SurfacePlacement", "rect", "plane_solver", "plane_model"]
 
 
 class AnchorTerm:
@@ -92,3 +95,17 @@ def plane_solver(cfg: SolverConfig) -> SolverConfig:
     """A surface plane's settings: at most 120 steps, quicker to call it settled."""
     return replace(cfg, min_steps=min(cfg.min_steps, 10), max_steps=min(cfg.max_steps, 120),
                    patience=min(cfg.patience, 5))
+
+
+def plane_model(models: dict, key: tuple, cp: CompiledPlan, ids: list[str], polygon: np.ndarray,
+                relations: bool, *, bindings: tuple[Binding, ...] | list[Binding] = (),
+                sizes: dict[str, tuple[float, float, float]] | None = None) -> ForceModel:
+    """The force model of objects ``ids`` on a plane bounded by ``polygon``, kept in
+    ``models`` under ``key``: samples that share ``models`` share the model, so their
+    simulations of the plane run as one batch (:mod:`forcelayout.batching`)."""
+    model = models.get(key)
+    if model is None:
+        model = models[key] = ForceModel(cp, ids, sizes=sizes, bindings=bindings,
+                                         room=RoomGeometry(polygon, height=1.0),
+                                         relations=relations)
+    return model

@@ -19,12 +19,11 @@ import numpy as np
 
 from forcelayout.batching import SampleTask, SimRequest
 from forcelayout.bindings import Binding, CompiledPlan
-from forcelayout.forces import ForceModel
 from forcelayout.geometry import RoomGeometry, box_corners
 from forcelayout.layout import Pose
 from forcelayout.options import SolverConfig
 from forcelayout.rules.base import State
-from forcelayout.surfaces.plane import SurfacePlacement, plane_solver, rect
+from forcelayout.surfaces.plane import SurfacePlacement, plane_model, plane_solver, rect
 
 __all__ = ["place_on_tops", "holds"]
 
@@ -88,12 +87,8 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
     # parent is: the parent's back is the side at a wall (a TV at the wall behind its stand)
     at_back = {b.object for b in bindings if b.target is None
                and b.rule.start is not None and b.rule.start.place == "wall"}
-    key = (id(cp), parent, tuple(kids), relations)
-    model = models.get(key)
-    if model is None:
-        room = RoomGeometry(rect(-pw / 2, -pd / 2, pw / 2, pd / 2), height=1.0)
-        model = models[key] = ForceModel(cp, kids, bindings=bindings, room=room,
-                                         relations=relations)
+    model = plane_model(models, ("top", id(cp), parent, tuple(kids), relations), cp, kids,
+                        rect(-pw / 2, -pd / 2, pw / 2, pd / 2), relations, bindings=bindings)
     edge = model.physical_weights.boundary_range + 1e-3  # starts beyond the terms' reach
     apart = model.physical_weights.repulsion_range + 1e-3
     for r in range(len(kids)):

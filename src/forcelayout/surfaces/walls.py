@@ -17,12 +17,17 @@ import numpy as np
 
 from forcelayout.batching import SampleTask, SimRequest
 from forcelayout.bindings import Binding, CompiledPlan
-from forcelayout.forces import ForceModel
 from forcelayout.geometry import RoomGeometry, box_corners, front_vectors
 from forcelayout.layout import Pose
 from forcelayout.options import SolverConfig
 from forcelayout.plan import Plan
-from forcelayout.surfaces.plane import AnchorTerm, SurfacePlacement, plane_solver, rect
+from forcelayout.surfaces.plane import (
+    AnchorTerm,
+    SurfacePlacement,
+    plane_model,
+    plane_solver,
+    rect,
+)
 
 __all__ = ["EYE_LEVEL", "wall_pose", "wall_band", "free_wall_stretches", "hanging_centres",
            "back_wall", "place_on_walls"]
@@ -338,14 +343,10 @@ def _wall_plane(cp: CompiledPlan, wall: int,
     goal = np.array([g for _, _, _, g in items])
     obstacles = [rect(max(a, 0.0), max(b0, 0.0), min(b, L), min(b1, H)) for a, b, b0, b1 in static
                  if min(b, L) - max(a, 0.0) > 1e-3 and min(b1, H) - max(b0, 0.0) > 1e-3]
-    key = ("wall", id(cp), wall, tuple(ids), relations)
-    model = models.get(key)
-    if model is None:
-        # on the plane an object's extent is its width along the wall and its height up it
-        sizes = {o: (s[0], s[2], s[1]) for o, s in zip(ids, size.tolist(), strict=True)}
-        plane = RoomGeometry(rect(0.0, 0.0, L, H), height=1.0)
-        model = models[key] = ForceModel(cp, ids, sizes=sizes, bindings=(), room=plane,
-                                         relations=relations)
+    # on the plane an object's extent is its width along the wall and its height up it
+    sizes = {o: (s[0], s[2], s[1]) for o, s in zip(ids, size.tolist(), strict=True)}
+    model = plane_model(models, ("wall", id(cp), wall, tuple(ids), relations), cp, ids,
+                        rect(0.0, 0.0, L, H), relations, sizes=sizes)
     res = yield SimRequest(model, pos, np.zeros(len(ids)), plane_solver(cfg),
                            obstacles=obstacles, terms=(AnchorTerm(goal[:, :2], goal[:, 2:]),))
     out.steps += res.steps

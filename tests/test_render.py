@@ -59,6 +59,29 @@ def test_png_is_written(tmp_path):
     assert len(data) > 20_000
 
 
+@pytest.mark.parametrize("changes", [
+    {},  # a valid layout
+    # every object on one spot: a long list of failures runs past the figure's edge
+    {k: Pose(1.0, 1.0, 0.0) for k in ("bed", "nightstand", "desk", "chair")},
+])
+def test_png_holds_what_a_tight_savefig_holds(tmp_path, changes):
+    # the picture is cropped to its content as savefig(bbox_inches="tight") crops it
+    import numpy as np
+    from PIL import Image
+
+    lay = layout(**changes)
+    draw_layout(lay, tmp_path / "a.png")
+    draw_layout(lay).savefig(tmp_path / "b.png", dpi=150, bbox_inches="tight")
+    a, b = Image.open(tmp_path / "a.png"), Image.open(tmp_path / "b.png")
+    assert abs(a.size[0] - b.size[0]) <= 3 and abs(a.size[1] - b.size[1]) <= 3
+    w, h = min(a.size[0], b.size[0]), min(a.size[1], b.size[1])
+    pa = np.asarray(a.convert("RGB"))[:h, :w].astype(int)
+    pb = np.asarray(b.convert("RGB"))[:h, :w].astype(int)
+    # the same drawing, up to a pixel's shift of the crop
+    dark_a, dark_b = (pa.sum(-1) < 300).sum(), (pb.sum(-1) < 300).sum()
+    assert abs(dark_a - dark_b) <= 0.02 * dark_b
+
+
 def test_pdf_and_svg_follow_the_suffix(tmp_path):
     draw_layout(layout(), tmp_path / "a.pdf")
     assert (tmp_path / "a.pdf").read_bytes()[:5] == b"%PDF-"

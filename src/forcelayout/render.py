@@ -331,10 +331,58 @@ def save_figure(fig: Figure, path: str | Path, *, dpi: int = 150) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     if not isinstance(fig.canvas, FigureCanvasAgg):
         FigureCanvasAgg(fig)
+    if suffix == ".png":
+        png = _tight_png(fig, dpi)
+        if png is not None:
+            path.write_bytes(png)
+            return path
     with rc_context({"svg.fonttype": "none", "svg.hashsalt": "forcelayout"}):
         fig.savefig(path, format=suffix[1:], dpi=dpi, bbox_inches="tight",
                     metadata={"Date": None} if suffix in (".svg", ".pdf") else None)
     return path
+
+
+#: Margin kept round the drawn content of a PNG picture, inches (matplotlib's
+#: ``savefig.pad_inches``, which ``bbox_inches="tight"`` keeps).
+_PAD_INCHES = 0.1
+
+
+def _tight_png(fig: Figure, dpi: int, *, compress_level: int = 6) -> bytes | None:
+    """The figure as PNG bytes cropped to its drawn content, in one draw.
+
+    What ``savefig(bbox_inches="tight")`` writes, but without its second draw:
+    the figure is drawn once at ``dpi`` on its Agg canvas and the pixels
+    outside the content's bounding box (plus ``_PAD_INCHES``) are cut away.
+    ``None`` when the content reaches past the figure's edge (a long list of
+    failures under the plan): only a redraw on a larger canvas shows it all.
+    """
+    from PIL import Image
+
+    canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
+    old_dpi = fig.dpi
+    fig.set_dpi(dpi)
+    try:
+        canvas.draw()
+        box = fig.get_tightbbox(canvas.get_renderer())
+        pixels = np.asarray(canvas.buffer_rgba())
+    finally:
+        fig.set_dpi(old_dpi)
+    if box is None:
+        return None
+    height, width = pixels.shape[:2]
+    x0, x1 = (box.x0 - _PAD_INCHES) * dpi, (box.x1 + _PAD_INCHES) * dpi
+    y0, y1 = (box.y0 - _PAD_INCHES) * dpi, (box.y1 + _PAD_INCHES) * dpi
+    if x0 < -0.5 or y0 < -0.5 or x1 > width + 0.5 or y1 > height + 0.5:
+        return None
+    left, right = max(int(math.floor(x0)), 0), min(int(math.ceil(x1)), width)
+    top, bottom = max(height - int(math.ceil(y1)), 0), min(height - int(math.floor(y0)), height)
+    pixels = pixels[top:bottom, left:right]
+    opaque = bool((pixels[..., 3] == 255).all())  # no alpha channel needed: a quarter less
+    image = Image.fromarray(np.ascontiguousarray(pixels[..., :3] if opaque else pixels),
+                            "RGB" if opaque else "RGBA")
+    buf = io.BytesIO()
+    image.save(buf, format="png", compress_level=compress_level, dpi=(dpi, dpi))
+    return buf.getvalue()
 
 
 def layout_svg(layout: Layout, **kwargs: Any) -> str:

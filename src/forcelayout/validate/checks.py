@@ -854,8 +854,12 @@ def _reached_from_doors(labels: np.ndarray, dist2: np.ndarray, seeds: np.ndarray
     for d, seed in enumerate(seeds):
         door_has[d, labels[:, seed].ravel()] = True
     door_has[:, 0] = False  # not a free region
-    near = np.where(dist2 <= near2, labels[:, None], 0)  # the region of each cell within reach
-    return np.stack([door_has[d][near].any(axis=(-2, -1)) for d in range(len(seeds))], axis=-1)
+    within = dist2 <= near2  # (B, P, H, W): the cells within reach of each object
+    out = np.empty((*dist2.shape[:2], len(seeds)), dtype=bool)
+    for d in range(len(seeds)):
+        cells = door_has[d][labels]  # (B, H, W): the cells of the regions the door opens on
+        out[..., d] = (within & cells[:, None]).any(axis=(-2, -1))
+    return out
 
 
 def _reachable(ids: list[str], prim: list[int], solid: np.ndarray, rows: np.ndarray,

@@ -926,6 +926,18 @@ class _Placer:
         self.access = next((t for t in model.terms if isinstance(t, AccessTerm)), None)
         self.order = _order(parent, model.size[:, 0] * model.size[:, 1], model.walkable)
         self.sides, self.side_count, self.either = _side_room(model, parent, wants)
+        # the rows a side-by-side binding ties to each row, either way round, other than
+        # its parent: where it may also stand beside one that is placed
+        self.side_others: list[list[int]] = [[] for _ in range(n)]
+        for r in range(n):
+            for g, b in self.by_object[r]:
+                hint = g.rule.start
+                if g.j is None or hint is None or hint.place not in _SIDE_PLACES:
+                    continue
+                i, j = int(g.i[b]), int(g.j[b])
+                other = j if i == r else i
+                if other != parent[r] and other not in self.side_others[r]:
+                    self.side_others[r].append(other)
         # floor to keep free in front of a parent for children standing in front of it
         front, n_front = np.zeros(n), np.zeros(n)
         # and on every side of it for its children all round (the chairs at a table)
@@ -1044,20 +1056,14 @@ class _Placer:
             misses += blocked(zc, zo, zl, zh, mine).all(-1)
         return misses
 
-    def _side_partners(self, r: int, parent: int, placed: list[int]) -> list[int]:
+    def _side_partners(self, r: int, placed: Sequence[int]) -> list[int]:
         """Placed rows that a side-by-side binding (start place ``beside``) ties to ``r``,
-        either way round, other than its parent."""
+        either way round, other than its parent (in the order of its bindings)."""
+        others = self.side_others[r]
+        if not others:
+            return []
         done = set(placed)
-        out: list[int] = []
-        for g, b in self.by_object[r]:
-            hint = g.rule.start
-            if g.j is None or hint is None or hint.place not in _SIDE_PLACES:
-                continue
-            i, j = int(g.i[b]), int(g.j[b])
-            other = j if i == r else i
-            if other != parent and other in done and other not in out:
-                out.append(other)
-        return out
+        return [o for o in others if o in done]
 
     def place(self, r: int, placed: Sequence[Sequence[int]], pos: np.ndarray, yaw: np.ndarray,
               rngs: list[np.random.Generator], tries: int, spread: float) -> None:
@@ -1075,8 +1081,7 @@ class _Placer:
         """
         if any(pl is not placed[0] for pl in placed):  # samples that draw a different
             # number of candidates (their side partners differ) are placed apart
-            q = int(self.parent[r])
-            extra = [min(len(self._side_partners(r, q, pl)), 2) for pl in placed]
+            extra = [min(len(self._side_partners(r, pl)), 2) for pl in placed]
             if len(set(extra)) > 1:
                 for e in sorted(set(extra)):
                     bs = [b for b, x in enumerate(extra) if x == e]
@@ -1146,7 +1151,7 @@ class _Placer:
         # beside the placed objects it should stand beside other than its parent
         # (the second bed beside the nightstand that already stands by the first); as
         # many for every sample (``place`` sees to it), which ones its own
-        partners = [self._side_partners(r, q, list(pl))[:2] for pl in placed]
+        partners = [self._side_partners(r, pl)[:2] for pl in placed]
         for k in range(len(partners[0])):
             wp = _Wants(places={"beside"} | (places & {"wall"}), turns=w.turns)
             more, more_yaw = _child_candidates(room, rngs, tries // 2, wp,

@@ -25,7 +25,15 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
-from Box2D import b2ChainShape, b2PolygonShape, b2World
+from Box2D import (
+    b2_dynamicBody,
+    b2_staticBody,
+    b2BodyDef,
+    b2ChainShape,
+    b2FixtureDef,
+    b2PolygonShape,
+    b2World,
+)
 
 from forcelayout.forces import ForceModel, ForceTerm, join_terms
 from forcelayout.geometry import RoomGeometry
@@ -142,21 +150,35 @@ def _add(terms: Sequence[ForceTerm], state: State, temperature: float, annealed:
             tau += tk
 
 
-def _bodies(model: ForceModel, world: b2World, pos: np.ndarray, yaw: np.ndarray,
-            fixed: np.ndarray, hulls: list) -> list:
-    bodies = []
+def _fixtures(model: ForceModel, hulls: list) -> list[b2FixtureDef]:
+    """Each row's fixture definition (its footprint, density and collision layer), made once
+    per simulation and used for the body of every sample (Box2D copies it)."""
+    defs = []
     walkable = model.walkable
     for r in range(model.n):
         hw, hd = (float(v) for v in model.size[r, :2] * 0.5)
-        kw = dict(position=(float(pos[r, 0]), float(pos[r, 1])), angle=float(yaw[r]),
-                  fixedRotation=False, bullet=False)
-        b = world.CreateStaticBody(**kw) if fixed[r] else world.CreateDynamicBody(**kw)
+        shape = (b2PolygonShape(box=(hw, hd)) if hulls[r] is None
+                 else b2PolygonShape(vertices=hulls[r]))
         # walls collide with everything; furniture with furniture; covers with walls only
         layer = _COVER if walkable[r] else _SOLID
-        shape = {"box": (hw, hd)} if hulls[r] is None else {"vertices": hulls[r]}
-        b.CreatePolygonFixture(**shape, density=1.0, friction=0.0, restitution=0.0,
-                               categoryBits=layer, maskBits=_WALLS | (0 if walkable[r] else _SOLID))
-        bodies.append(b)
+        defs.append(b2FixtureDef(shape=shape, density=1.0, friction=0.0, restitution=0.0,
+                                 categoryBits=layer,
+                                 maskBits=_WALLS | (0 if walkable[r] else _SOLID)))
+    return defs
+
+
+def _bodies(world: b2World, pos: np.ndarray, yaw: np.ndarray, fixed: np.ndarray,
+            fixtures: list[b2FixtureDef]) -> list:
+    """One body per row in ``world``, at its pose, static where ``fixed``."""
+    bodies = []
+    spec = b2BodyDef()  # fixedRotation and bullet off, as by default
+    for r, fixture in enumerate(fixtures):
+        spec.type = b2_staticBody if fixed[r] else b2_dynamicBody
+        spec.position = (float(pos[r, 0]), float(pos[r, 1]))
+        spec.angle = float(yaw[r])
+        body = world.CreateBody(spec)
+        body.CreateFixture(fixture)
+        bodies.append(body)
     return bodies
 
 
@@ -259,7 +281,7 @@ def simulate_batch(
     own = fixed.ndim == 2  # each sample's own fixed rows
     if n == 0 or count == 0:
         return [SimulationResult(pos[b], yaw[b], 0, True) for b in range(count)]
-    hulls = _footprints(model)
+    fixtures = _fixtures(model, _footprints(model))
     walls = [list(obstacles or []) + list(sample_obstacles[b] if sample_obstacles else [])
              for b in range(count)]  # each sample's static obstacles
     own_terms = [list(ts) for ts in sample_terms] if sample_terms else None
@@ -270,7 +292,7 @@ def simulate_batch(
     for b in range(count):
         world = _world(model.room, walls[b])
         fb = fixed[b] if own else fixed
-        bods = _bodies(model, world, pos[b], yaw[b], fb, hulls)
+        bods = _bodies(world, pos[b], yaw[b], fb, fixtures)
         worlds.append(world)
         bodies.append(bods)
         moving.append([bd for bd, f in zip(bods, fb, strict=True) if not f])

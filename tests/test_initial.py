@@ -495,3 +495,60 @@ def test_a_rectangular_floor_holds_a_candidate_exactly_when_shapely_says_so(seed
     corners = np.stack([cand - hr - hf, cand + hr - hf, cand + hr + hf, cand - hr + hf], 2)
     exact = shapely.contains(placer.floor, shapely.polygons(corners.reshape(-1, 4, 2)))
     assert np.array_equal(inside, exact.reshape(3, 40))
+
+
+@pytest.fixture
+def faces_window_rule():
+    from forcelayout.rules.shaping import signed_angle, unit
+
+    @rules.register("test_faces_window")
+    class FacesWindow(rules.Rule):
+        """Front within 30 degrees of the direction to the nearest window's centre."""
+
+        start = rules.StartHint(turn="face_window")
+
+        def force(self, state, i, j, p):
+            return np.zeros((len(i), 2)), np.zeros(len(i))
+
+        def satisfied(self, state, i, j, p):
+            c = state.room.windows.centre
+            d = c[None] - state.pos[i][:, None]
+            u, _ = unit(d[np.arange(len(i)), np.argmin((d * d).sum(-1), axis=1)])
+            return np.abs(signed_angle(state.front[i], u)) <= np.radians(30.0)
+
+    yield
+    rules.unregister("test_faces_window")
+
+
+FACING_A_WINDOW = {
+    "name": "armchair_by_the_window",
+    "room": {"polygon": [[0, 0], [5, 0], [5, 4], [0, 4]],
+             "windows": [{"wall": 0, "offset": 1.0, "width": 1.2}],
+             "doors": [{"wall": 2, "offset": 2.0, "width": 0.9}]},
+    "objects": [{"id": "armchair", "category": "armchair", "size": [0.8, 0.8, 0.9]},
+                {"id": "lamp", "category": "floor_lamp", "size": [0.3, 0.3, 1.6]}],
+    "rules": [{"rule": "test_faces_window", "object": "armchair"},
+              {"rule": "test_faces_window", "object": "lamp"},
+              {"rule": "at_wall", "object": "lamp"}],
+}
+
+
+def test_a_start_turned_to_face_the_window(faces_window_rule):
+    """``StartHint(turn="face_window")``: a free-standing object starts facing the nearest
+    window; an object backed against a wall keeps the wall's heading."""
+    from forcelayout.baselines import rule_aware_layout
+
+    plan = fl.Plan.from_dict(FACING_A_WINDOW)
+    model = ForceModel(plan)
+    chair, lamp = model.ids.index("armchair"), model.ids.index("lamp")
+    window = model.room.windows.centre[0]
+    for s in range(20):
+        pos, yaw = propose_poses(model, np.random.default_rng(s))
+        to = window - pos[chair]
+        front = np.array([-np.sin(yaw[chair]), np.cos(yaw[chair])])
+        assert front @ to / np.linalg.norm(to) > 1 - 1e-9
+        back = pos[lamp] - 0.15 * np.array([-np.sin(yaw[lamp]), np.cos(yaw[lamp])])
+        assert model.room.wall_distance(back[None])[0].min() < 0.05  # its back at a wall
+    # the rejection baseline turns it as well: the rule holds in every draw
+    met = [rule_aware_layout(plan, s).rule_report()[0].satisfied for s in range(10)]
+    assert all(met)

@@ -61,6 +61,8 @@ __all__ = ["random_layout", "rule_aware_layout", "rejection_sample", "RejectionR
 _ROOM_PLACES = frozenset({"wall", "corner", "middle", "window", "door"})
 _SIDE_PLACES = frozenset({"beside", "left", "right", "front", "back"})
 _TARGET_PLACES = StartHint.PLACES - _ROOM_PLACES - {"all_round"}
+#: Turns towards the room's openings, and which openings.
+_OPENING_TURNS = {"face_window": "windows", "face_door": "doors"}
 #: Gap a wall-snapped footprint keeps from its wall, metres (the at_wall check allows 0.05).
 _WALL_GAP = 0.005
 
@@ -260,6 +262,9 @@ def _compile(plan: Plan) -> _Compiled:
                            if cls.start is not None and cls.start.place in _ROOM_PLACES)
         turns = tuple((cls.start.turn, t) for cls, t in rules[oid]
                       if cls.start is not None and cls.start.turn and t in fset and t != oid)
+        # turned towards an opening only where no rule turns it towards a target
+        turns = turns or tuple((cls.start.turn, None) for cls, _ in rules[oid]
+                               if cls.start is not None and cls.start.turn in _OPENING_TURNS)
         hints[oid] = _Hint(places, parent.get(oid), near.get(oid), turns)
     area = {o.id: o.size[0] * o.size[1] for o in plan.objects}
     kids: dict[str | None, list[str]] = {}
@@ -440,7 +445,15 @@ def _propose(c: _Compiled, oid: str, rng: np.random.Generator, k: int,
     pos, yaw = out
     if not snapped and not square:  # turn as the rules ask (face a target, share its heading)
         for turn, target in hint.turns:
-            if target in poses:
+            openings = _OPENING_TURNS.get(turn)
+            if openings is not None:  # towards the nearest window (door)
+                centres = getattr(room, openings).centre
+                if len(centres):
+                    d = centres[None] - pos[:, None]
+                    near = d[np.arange(k), np.argmin((d * d).sum(-1), axis=1)]
+                    yaw = _yaw_facing(near)
+                    break
+            elif target in poses:
                 tp = poses[target]
                 yaw = (_yaw_facing(np.array([tp.x, tp.y]) - pos) if turn == "face_target"
                        else np.full(k, tp.yaw))

@@ -212,6 +212,25 @@ def _yaw_facing(direction: np.ndarray) -> np.ndarray:
     return np.arctan2(-direction[:, 0], direction[:, 1])
 
 
+def _opening_turn(room, turns: set[str], places: set[str]) -> np.ndarray | None:
+    """The centres (M, 2) of the openings an object's start turns its front towards
+    (``face_window`` / ``face_door``), or None: none asked, none in the room, the object
+    backed against a wall, or a rule turning it towards its target."""
+    if places & {"wall", "corner"} or turns & {"face_target", "target_heading"}:
+        return None
+    for turn, openings in (("face_window", room.windows), ("face_door", room.doors)):
+        if turn in turns and len(openings):
+            return openings.centre
+    return None
+
+
+def _yaw_facing_nearest(cand: np.ndarray, centres: np.ndarray) -> np.ndarray:
+    """Headings (...) turning candidates (..., 2) to face the nearest of ``centres`` (M, 2)."""
+    d = centres[None] - cand.reshape(-1, 1, 2)
+    k = np.argmin((d * d).sum(-1), axis=1)
+    return _yaw_facing(d[np.arange(len(d)), k]).reshape(cand.shape[:-1])
+
+
 def _each(rngs: Sequence[np.random.Generator], draw: Callable[[np.random.Generator], Any]
           ) -> np.ndarray:
     """One draw from each sample's generator, stacked: shape (B, ...)."""
@@ -1170,8 +1189,12 @@ class _Placer:
                 more.append(g.uniform(self.lo, self.hi, (extra, 2)))
                 more_yaw.append(g.uniform(-np.pi, np.pi, extra))
             more, more_yaw = np.stack(more), np.stack(more_yaw)
-        return (np.concatenate([cand, more], axis=1), np.concatenate([cyaw, more_yaw], axis=1),
-                loose)
+        cand = np.concatenate([cand, more], axis=1)
+        cyaw = np.concatenate([cyaw, more_yaw], axis=1)
+        toward = _opening_turn(room, w.turns, places)
+        if toward is not None:  # front towards the nearest window (or door)
+            cyaw = _yaw_facing_nearest(cand, toward)
+        return cand, cyaw, loose
 
     def _best(self, r: int, placed: Sequence[Sequence[int]], pos: np.ndarray, yaw: np.ndarray,
               rngs: list[np.random.Generator], tries: int, spread: float

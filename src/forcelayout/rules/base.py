@@ -71,7 +71,10 @@ class StartHint:
         ``"beneath"`` (centred under the target: a walkable cover).
     turn : str, optional
         ``"face_target"`` turns the object's front towards its target;
-        ``"target_heading"`` gives it the target's heading.
+        ``"target_heading"`` gives it the target's heading; ``"face_window"``
+        / ``"face_door"`` turn its front towards the nearest window / door
+        (for an object not backed against a wall, and only where no rule
+        turns it towards a target).
     parent : int, optional
         The object starts near its target (the target is its *parent*); when
         several rules name different targets, the lowest ``parent`` wins
@@ -98,7 +101,8 @@ class StartHint:
     PLACES: ClassVar[frozenset[str]] = frozenset(
         {"wall", "corner", "middle", "window", "door", "beside", "left", "right", "front",
          "back", "all_round", "beneath"})
-    TURNS: ClassVar[frozenset[str]] = frozenset({"face_target", "target_heading"})
+    TURNS: ClassVar[frozenset[str]] = frozenset(
+        {"face_target", "target_heading", "face_window", "face_door"})
 
     def __post_init__(self) -> None:
         if self.place is not None and self.place not in self.PLACES:

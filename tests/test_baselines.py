@@ -258,3 +258,21 @@ def test_baseline_draws_an_object_beside_its_parent_with_the_backs_level() -> No
             offsets.append(backs_offset((b.x, b.y, b.yaw), (n.x, n.y, n.yaw), 2.0, 0.4))
     assert len(offsets) >= 15
     assert np.median(np.abs(offsets)) < 0.1
+
+
+def test_a_wall_object_near_a_door_is_drawn_on_any_wall_within_the_rules_reach() -> None:
+    """The door fills its short wall: the cabinet that should stand at a wall near it
+    stands on a long wall beside it, within ``near_door``'s distance (not only on the
+    door's own wall, nor within a fixed 1.4 m)."""
+    plan = Plan.from_dict({
+        "name": "hall",
+        "room": {"polygon": [[0, 0], [3.2, 0], [3.2, 2.2], [0, 2.2]],
+                 "doors": [{"wall": 1, "offset": 0.65, "width": 0.9}]},
+        "objects": [{"id": "cabinet", "category": "shoe_cabinet", "size": [1.0, 0.35, 0.9]}],
+        "rules": [{"rule": "at_wall", "object": "cabinet"},
+                  {"rule": "near_door", "object": "cabinet", "params": {"distance": 1.9}}]})
+    run = rejection_sample(plan, 10, seed=0, max_tries=200)
+    assert len(run) == 10
+    door = RoomGeometry.from_room(plan.room).doors.centre[0]
+    dist = [math.dist((lay.poses["cabinet"].x, lay.poses["cabinet"].y), door) for lay in run]
+    assert max(dist) <= 1.9 and max(dist) > 1.5  # spread over the rule's whole reach

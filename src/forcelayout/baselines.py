@@ -61,6 +61,8 @@ __all__ = ["random_layout", "rule_aware_layout", "rejection_sample", "RejectionR
 _ROOM_PLACES = frozenset({"wall", "corner", "middle", "window", "door"})
 _SIDE_PLACES = frozenset({"beside", "left", "right", "front", "back"})
 _TARGET_PLACES = StartHint.PLACES - _ROOM_PLACES - {"all_round"}
+#: Metres from an opening's centre a draw near it reaches where no rule says how far.
+_OPENING_REACH = 1.4
 #: Turns towards the room's openings, and which openings.
 _OPENING_TURNS = {"face_window": "windows", "face_door": "doors"}
 #: Gap a wall-snapped footprint keeps from its wall, metres (the at_wall check allows 0.05).
@@ -205,7 +207,10 @@ class _Hint:
     places: frozenset[str] = frozenset()  # room places: wall, corner, middle, window, door
     parent: str | None = None  # the target it starts near
     near: str | None = None  # which side of the parent: beside, left, ..., all_round, None
-    turns: tuple[tuple[str, str], ...] = ()  # (turn, target id)
+    turns: tuple[tuple[str | None, str | None], ...] = ()  # (turn, target id)
+    # how far from its room place its rules let it be: metres from an opening, a share of
+    # the room's extent from the middle (StartHint.reach); 0 where no rule says
+    reach: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -240,10 +245,14 @@ def _compile(plan: Plan) -> _Compiled:
     floor = [o.id for o in plan.objects if o.id not in off]
     fset = set(floor)
     rules: dict[str, list[tuple[type[Rule], str | None]]] = {i: [] for i in floor}
+    reach: dict[str, float] = {}
     for spec in plan.rules:
         cls = _rule_class(spec.rule)
         if cls.surface == "floor" and spec.object in fset:
             rules[spec.object].append((cls, spec.target))
+            if cls.start is not None and cls.start.reach is not None:
+                bound = float(getattr(cls.Params(**(spec.params or {})), cls.start.reach))
+                reach[spec.object] = max(reach.get(spec.object, 0.0), bound)
     parent: dict[str, str] = {}
     near: dict[str, str | None] = {}
     for oid in floor:  # the strongest bond (lowest StartHint.parent) that makes no cycle
@@ -265,7 +274,7 @@ def _compile(plan: Plan) -> _Compiled:
         # turned towards an opening only where no rule turns it towards a target
         turns = turns or tuple((cls.start.turn, None) for cls, _ in rules[oid]
                                if cls.start is not None and cls.start.turn in _OPENING_TURNS)
-        hints[oid] = _Hint(places, parent.get(oid), near.get(oid), turns)
+        hints[oid] = _Hint(places, parent.get(oid), near.get(oid), turns, reach.get(oid, 0.0))
     area = {o.id: o.size[0] * o.size[1] for o in plan.objects}
     kids: dict[str | None, list[str]] = {}
     for oid in floor:
@@ -321,19 +330,26 @@ def _snap_nearest_wall(room: RoomGeometry, pos: np.ndarray, half: np.ndarray
     return _against_wall(room, wall, t[np.arange(len(pos)), wall], half)
 
 
+def _near_opening(rng: np.random.Generator, k: int, openings: list, reach: float
+                  ) -> np.ndarray:
+    """``k`` points evenly over the disc of radius ``reach`` (1.4 m where no rule says)
+    round a random opening of a random kind among ``openings``."""
+    o = openings[int(rng.integers(0, len(openings)))]
+    ang = rng.uniform(-math.pi, math.pi, k)
+    r = (reach if reach > 0 else _OPENING_REACH) * np.sqrt(rng.random(k))
+    return o.centre[rng.integers(0, len(o), k)] + r[:, None] * np.stack(
+        [np.cos(ang), np.sin(ang)], axis=1)
+
+
 def _random_wall(c: _Compiled, rng: np.random.Generator, k: int, half: np.ndarray,
-                 places: frozenset[str]) -> tuple[np.ndarray, np.ndarray]:
-    """``k`` poses against random walls (on the wall of a window/door if the rules ask)."""
+                 places: frozenset[str], reach: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """``k`` poses against random walls (near a window/door if the rules ask: within their
+    ``reach`` of it, against whichever wall is nearest)."""
     room = c.room
     openings = [o for name, o in (("window", room.windows), ("door", room.doors))
                 if name in places and len(o)]
-    if openings:
-        o = openings[int(rng.integers(0, len(openings)))]
-        pick = rng.integers(0, len(o), k)
-        wall = o.wall[pick]
-        along = ((o.centre[pick] - room.a[wall]) * room.tangent[wall]).sum(1)
-        along = along + rng.uniform(-1.4, 1.4, k)
-        return _against_wall(room, wall, along, half)
+    if openings:  # within the rules' reach of an opening, against the nearest wall
+        return _snap_nearest_wall(room, _near_opening(rng, k, openings, reach), half)
     need = 2 * half[0] + 0.02
     weight = np.where(room.length >= need, room.length, 0.0)
     if weight.sum() <= 0:
@@ -426,19 +442,17 @@ def _propose(c: _Compiled, oid: str, rng: np.random.Generator, k: int,
     elif "corner" in places:
         out = _random_corner(c, rng, k, half)
     if out is None and snapped:  # a wall, or a room without convex corners
-        out = _random_wall(c, rng, k, half, places)
+        out = _random_wall(c, rng, k, half, places, hint.reach)
     if out is None:
         xmin, ymin, xmax, ymax = room.bounds
         ext = np.array([xmax - xmin, ymax - ymin])
         openings = [o for name, o in (("window", room.windows), ("door", room.doors))
                     if name in places and len(o)]
         if "middle" in places:
-            pos = room.centroid + (rng.random((k, 2)) * 2 - 1) * 0.25 * ext
+            share = hint.reach if hint.reach > 0 else 0.25
+            pos = room.centroid + (rng.random((k, 2)) * 2 - 1) * share * ext
         elif openings:
-            o = openings[int(rng.integers(0, len(openings)))]
-            ang, r = rng.uniform(-math.pi, math.pi, k), 1.4 * np.sqrt(rng.random(k))
-            pos = o.centre[rng.integers(0, len(o), k)] + r[:, None] * np.stack(
-                [np.cos(ang), np.sin(ang)], axis=1)
+            pos = _near_opening(rng, k, openings, hint.reach)
         else:
             pos = rng.random((k, 2)) * ext + [xmin, ymin]
         out = (pos, yaw)
@@ -537,7 +551,11 @@ def rule_aware_layout(
       all around it otherwise; then against the nearest wall if a wall or
       corner hint asks;
     * ``place="middle"``, ``"window"``, ``"door"`` — a random point of the
-      room's middle, or within 1.4 m of a random window or door;
+      share of the room's extent round its centroid the rule allows
+      (``StartHint.reach``: ``in_middle``'s ``fraction``; else a quarter), or
+      within the rule's reach of a random window or door (``near_door``'s
+      ``distance``; else 1.4 m), against the nearest wall where a wall hint
+      asks too;
     * anything else — uniform in the floor polygon; headings are random
       cardinal angles unless snapped to a wall or turned by a hint's
       ``turn`` (``face_target``, ``target_heading``).

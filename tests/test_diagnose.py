@@ -159,6 +159,15 @@ def test_other_checks_name_the_objects_they_quote():
     assert line == "50 % of samples fail 'collision' (most often chair_1)"
 
 
+def test_a_missing_line_names_the_objects_missing_not_where_they_were_to_go():
+    why = ("missing: mirror: no free stretch 0.6 m wide on walls [0] near 'shoe_cabinet' in "
+           "the band 0.90..2.10 m (doors, windows and furniture block it)")
+    reports = [fail(why), fail(why + "; lamp: does not fit on top of 'shoe_cabinet' in any "
+                                     "orientation"), SampleReport(seed=3)]
+    line = dominant_cause(reports)
+    assert line == "67 % of samples fail 'missing' (most often mirror)"
+
+
 def test_one_failure_line_counts_once_per_sample_and_odd_lines_do_not_crash():
     reports = [fail(BLOCKED, BLOCKED.replace("door 0", "door 1")),
                fail("error: RuntimeError: boom"),

@@ -489,7 +489,11 @@ def dominant_cause(reports: Iterable[Any]) -> str | None:
                 if target:
                     seen_cut[target.group(1)] = None
                 reason = reason[:block.start()]
-            for oid in _QUOTED.findall(reason):
+            # a missing object leads its part of the line ("missing: a: why; b: why"); the
+            # names quoted in the why are where it was to go
+            names = ([part.partition(":")[0].strip() for part in reason.split("; ")]
+                     if check == "missing" else _QUOTED.findall(reason))
+            for oid in names:
                 seen_named[(check, oid)] = None
         checks.update(list(seen_checks))
         missed.update(list(seen_missed))

@@ -52,6 +52,7 @@ def test_generate_refuses_bad_counts_in_one_line(args, reason, tmp_path):
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2
     assert reason in proc.stderr and "Traceback" not in proc.stderr
+    assert proc.stderr.count("\n") == 1 and "--help" in proc.stderr  # not the usage text
     assert not (tmp_path / "o").exists()
 
 

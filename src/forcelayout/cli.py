@@ -16,6 +16,7 @@ import json
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import NoReturn
 
 __all__ = ["main", "build_parser"]
 
@@ -189,11 +190,19 @@ MIN_RULES_HELP = ("share of the plan's rules every accepted layout meets (defaul
                   "yield and time on crowded plans)")
 
 
+class _Parser(argparse.ArgumentParser):
+    """An argument parser that says what is wrong with the command line in one line (and
+    where the usage is), not the whole usage text first."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message} (see: {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``forcelayout`` command."""
     from forcelayout import __version__
 
-    p = argparse.ArgumentParser(prog="forcelayout", description=(
+    p = _Parser(prog="forcelayout", description=(
         "One declarative scene plan -> many physically valid room layouts."))
     p.add_argument("--version", action="version", version=f"forcelayout {__version__}")
     p.add_argument("--debug", action="store_true",
@@ -274,7 +283,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _missing(extra: str) -> int:
-    print(f"this command needs the optional extra: pip install \"forcelayout[{extra}]\"",
+    print(f"error: this command needs the optional extra: pip install \"forcelayout[{extra}]\"",
           file=sys.stderr)
     return 2
 

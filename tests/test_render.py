@@ -59,17 +59,29 @@ def test_png_is_written(tmp_path):
     assert len(data) > 20_000
 
 
-@pytest.mark.parametrize("changes", [
-    {},  # a valid layout
+SMALL_ROOM = Plan.model_validate({
+    "name": "wc",
+    "room": {"polygon": [[0, 0], [2.5, 0], [2.5, 2.8], [0, 2.8]],
+             "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}]},
+    "objects": [{"id": "basket", "category": "laundry_basket", "size": [0.4, 0.4, 0.6]},
+                {"id": "mat", "category": "bath_mat", "size": [0.8, 0.5, 0.01]}]})
+
+
+@pytest.mark.parametrize("make", [
+    lambda: layout(),  # a valid layout
     # every object on one spot: a long list of failures runs past the figure's edge
-    {k: Pose(1.0, 1.0, 0.0) for k in ("bed", "nightstand", "desk", "chair")},
+    lambda: layout(**{k: Pose(1.0, 1.0, 0.0) for k in ("bed", "nightstand", "desk", "chair")}),
+    # a small room's legend ends within the figure's last tenth of an inch: the margin
+    # round the content runs past the canvas
+    lambda: Layout(SMALL_ROOM, {"basket": Pose(2.2, 1.5, math.pi / 2),
+                                "mat": Pose(1.2, 1.5, 0.0)}, seed=1),
 ])
-def test_png_holds_what_a_tight_savefig_holds(tmp_path, changes):
+def test_png_holds_what_a_tight_savefig_holds(tmp_path, make):
     # the picture is cropped to its content as savefig(bbox_inches="tight") crops it
     import numpy as np
     from PIL import Image
 
-    lay = layout(**changes)
+    lay = make()
     draw_layout(lay, tmp_path / "a.png")
     draw_layout(lay).savefig(tmp_path / "b.png", dpi=150, bbox_inches="tight")
     a, b = Image.open(tmp_path / "a.png"), Image.open(tmp_path / "b.png")

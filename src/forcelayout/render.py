@@ -43,6 +43,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Arc, Patch
 from matplotlib.patches import Polygon as PolygonPatch
+from matplotlib.ticker import MultipleLocator
 
 from forcelayout.geometry import box_corners
 
@@ -287,6 +288,10 @@ def draw_layout(
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.tick_params(labelsize=7)
+    if max(xmax - xmin, ymax - ymin) <= 12.0:  # a tick every metre (half metres in a small
+        # room doubled the labels, and text is most of a picture's drawing time)
+        ax.xaxis.set_major_locator(MultipleLocator(1.0))
+        ax.yaxis.set_major_locator(MultipleLocator(1.0))
     ax.set_title(title if title is not None else f"{layout.plan.name} · seed {layout.seed}",
                  fontsize=9)
     handles: list[Any] = [
@@ -352,8 +357,9 @@ def _tight_png(fig: Figure, dpi: int, *, compress_level: int = 6) -> bytes | Non
 
     What ``savefig(bbox_inches="tight")`` writes, but without its second draw:
     the figure is drawn once at ``dpi`` on its Agg canvas and the pixels
-    outside the content's bounding box (plus ``_PAD_INCHES``) are cut away.
-    ``None`` when the content reaches past the figure's edge (a long list of
+    outside the content's bounding box (plus ``_PAD_INCHES``, filled with the
+    figure's colour where the canvas ends first) are cut away. ``None`` when
+    the content itself reaches past the figure's edge (a long list of
     failures under the plan): only a redraw on a larger canvas shows it all.
     """
     from PIL import Image
@@ -370,15 +376,20 @@ def _tight_png(fig: Figure, dpi: int, *, compress_level: int = 6) -> bytes | Non
     if box is None:
         return None
     height, width = pixels.shape[:2]
-    x0, x1 = (box.x0 - _PAD_INCHES) * dpi, (box.x1 + _PAD_INCHES) * dpi
-    y0, y1 = (box.y0 - _PAD_INCHES) * dpi, (box.y1 + _PAD_INCHES) * dpi
-    if x0 < -0.5 or y0 < -0.5 or x1 > width + 0.5 or y1 > height + 0.5:
+    if box.x0 * dpi < -0.5 or box.y0 * dpi < -0.5 or box.x1 * dpi > width + 0.5 \
+            or box.y1 * dpi > height + 0.5:
         return None
-    left, right = max(int(math.floor(x0)), 0), min(int(math.ceil(x1)), width)
-    top, bottom = max(height - int(math.ceil(y1)), 0), min(height - int(math.floor(y0)), height)
-    pixels = pixels[top:bottom, left:right]
-    opaque = bool((pixels[..., 3] == 255).all())  # no alpha channel needed: a quarter less
-    image = Image.fromarray(np.ascontiguousarray(pixels[..., :3] if opaque else pixels),
+    # the padded box in pixel rows and columns (rows from the top), and the canvas in it
+    left, right = (int(math.floor((box.x0 - _PAD_INCHES) * dpi)),
+                   int(math.ceil((box.x1 + _PAD_INCHES) * dpi)))
+    top = height - int(math.ceil((box.y1 + _PAD_INCHES) * dpi))
+    bottom = height - int(math.floor((box.y0 - _PAD_INCHES) * dpi))
+    out = np.empty((bottom - top, right - left, 4), dtype=np.uint8)
+    out[:] = np.round(np.array(to_rgba(fig.get_facecolor())) * 255).astype(np.uint8)
+    r0, r1, c0, c1 = max(top, 0), min(bottom, height), max(left, 0), min(right, width)
+    out[r0 - top:r1 - top, c0 - left:c1 - left] = pixels[r0:r1, c0:c1]
+    opaque = bool((out[..., 3] == 255).all())  # no alpha channel needed: a quarter less
+    image = Image.fromarray(np.ascontiguousarray(out[..., :3] if opaque else out),
                             "RGB" if opaque else "RGBA")
     buf = io.BytesIO()
     image.save(buf, format="png", compress_level=compress_level, dpi=(dpi, dpi))

@@ -136,6 +136,22 @@ def test_opening_off_the_wall():
     assert p.path == "room.doors[0].offset"
 
 
+def test_openings_that_overlap_on_a_wall():
+    # two doors sharing a stretch of wall 0; a window over the first reaching below its top
+    data = plan_with(room__doors=[{"wall": 0, "offset": 1.0, "width": 0.9},
+                                  {"wall": 0, "offset": 1.6, "width": 0.9}],
+                     room__windows=[{"wall": 0, "offset": 1.0, "width": 0.6, "sill": 1.5,
+                                     "height": 0.5}])
+    ps = problems(data)
+    assert [p.path for p in ps] == ["room.doors[1].offset", "room.windows[0].offset"]
+    assert "overlaps room.doors[0] on wall 0" in ps[0].message
+    # side by side, or a window above a door's top, is fine
+    Plan.from_dict(plan_with(
+        room__doors=[{"wall": 0, "offset": 0.6, "width": 0.9},
+                     {"wall": 0, "offset": 1.6, "width": 0.9}],
+        room__windows=[{"wall": 0, "offset": 0.6, "width": 0.6, "sill": 2.1, "height": 0.4}]))
+
+
 def test_on_top_cycle():
     data = plan_with()
     data["objects"].append({"id": "lamp", "category": "lamp", "size": [0.2, 0.2, 0.3]})

@@ -428,6 +428,28 @@ def _off_floor(name: str) -> bool:
     return registry.is_registered(name) and registry.get_rule(name).surface != "floor"
 
 
+def _overlapping_openings(room: Room, n_walls: int) -> Iterator[Problem]:
+    """Openings on one wall that share a stretch of it at the same heights (two doors; a
+    window reaching below a door's top): one problem for the later of each pair."""
+    spans = []  # (path, wall, along from, along to, height from, height to)
+    for k, d in enumerate(room.doors):
+        spans.append((f"room.doors[{k}]", d.wall, d.offset - d.width / 2,
+                      d.offset + d.width / 2, 0.0, d.height))
+    for k, w in enumerate(room.windows):
+        spans.append((f"room.windows[{k}]", w.wall, w.offset - w.width / 2,
+                      w.offset + w.width / 2, w.sill, w.sill + w.height))
+    for b, (path, wall, lo, hi, zlo, zhi) in enumerate(spans):
+        if wall >= n_walls:
+            continue  # said above
+        for first, wall1, lo1, hi1, zlo1, zhi1 in spans[:b]:
+            if wall1 == wall and min(hi, hi1) - max(lo, lo1) > 1e-6 \
+                    and min(zhi, zhi1) - max(zlo, zlo1) > 1e-6:
+                yield Problem(f"{path}.offset", f"it overlaps {first} on wall {wall} "
+                              f"([{lo:.2f}, {hi:.2f}] m and [{lo1:.2f}, {hi1:.2f}] m along "
+                              "it); move one along the wall or onto another wall")
+                break
+
+
 def _polygon_fault(polygon: list) -> str:
     """Where a floor polygon that is not simple goes wrong, as a clause for its message:
     repeated corners, or the walls (wall ``i`` runs from corner ``i`` to corner ``i + 1``)
@@ -490,6 +512,7 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
                               f"{kind[:-1]} on this wall")
             if kind == "windows" and o.sill + o.height > room.height + 1e-9:  # type: ignore[union-attr]
                 yield Problem(f"{path}.height", "the window reaches above the ceiling")
+    yield from _overlapping_openings(room, n_walls)
     # objects that cannot fit
     minx, miny, maxx, maxy = poly.bounds
     rect = poly.minimum_rotated_rectangle

@@ -130,14 +130,24 @@ def rooms(
         poly = [(round(x + ox, 6), round(y + oy, 6)) for x, y in poly]
         lengths = [math.dist(poly[k], poly[(k + 1) % len(poly)]) for k in range(len(poly))]
 
+        taken: dict[int, list[tuple[float, float]]] = {}  # stretches of wall in use
+
         def opening(width: float) -> dict[str, float] | None:
-            walls = [k for k, n in enumerate(lengths) if n >= width + 0.3]
-            if not walls:
+            # free stretches long enough, 0.1 m from the wall's ends and from other openings
+            gaps = []
+            for k, n in enumerate(lengths):
+                edge = 0.0
+                for a, b in sorted(taken.get(k, [])) + [(n, n)]:
+                    if a - edge >= width + 0.2 + 1e-6:
+                        gaps.append((k, edge, a))
+                    edge = max(edge, b)
+            if not gaps:
                 return None
-            k = draw(st.sampled_from(walls))
-            lo, hi = width / 2 + 0.1, lengths[k] - width / 2 - 0.1
-            return {"wall": k, "offset": round(lo + (hi - lo) * draw(st.floats(0, 1)), 4),
-                    "width": width}
+            k, a, b = draw(st.sampled_from(gaps))
+            lo, hi = a + width / 2 + 0.1, b - width / 2 - 0.1
+            offset = round(lo + (hi - lo) * draw(st.floats(0, 1)), 4)
+            taken.setdefault(k, []).append((offset - width / 2, offset + width / 2))
+            return {"wall": k, "offset": offset, "width": width}
 
         door = opening(_round(draw(st.floats(0.8, 1.0))))
         windows = [opening(_round(draw(st.floats(0.8, 1.4))))

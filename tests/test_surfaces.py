@@ -364,3 +364,37 @@ def test_a_plane_model_is_made_once_per_key_and_shared():
     assert other is not one and len(models) == 2
     np.testing.assert_allclose(other.room.bounds, [0.0, 0.0, 3.0, 2.7])
     np.testing.assert_allclose(other.size, [[2.0, 0.5, 1.0]])
+
+
+WALL_RELATIONS = {
+    "name": "bathroom",
+    "room": {"polygon": [[0, 0], [3.0, 0], [3.0, 3.0], [0, 3.0]], "height": 2.5,
+             "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}]},
+    "objects": [
+        {"id": "bathtub", "category": "bathtub", "size": [1.7, 0.75, 0.55]},
+        {"id": "bed", "category": "bed", "size": [0.9, 1.9, 0.5]},
+        {"id": "towel_rack", "category": "towel rack", "size": [0.6, 0.12, 0.5]},
+        {"id": "tv", "category": "tv", "size": [0.8, 0.06, 0.5]},
+    ],
+    "rules": [{"rule": "on_wall", "object": "towel_rack", "params": {"low": 0.9, "high": 1.8}},
+              {"rule": "near", "object": "towel_rack", "target": "bathtub",
+               "params": {"distance": 0.6}},
+              {"rule": "on_wall_mid", "object": "tv"},
+              {"rule": "facing", "object": "bed", "target": "tv"}],
+}
+
+
+def test_a_wall_object_goes_where_its_rules_with_floor_objects_hold():
+    """A towel rack on the wall near the bathtub, a TV on the wall the bed faces: floor
+    rules between a floor object and a wall object are met by where the wall object goes
+    (the floor does not move for it)."""
+    from forcelayout.surfaces import place_surfaces
+
+    plan = fl.Plan.from_dict(WALL_RELATIONS)
+    floor = {"bathtub": fl.Pose(2.1, 2.6, np.pi), "bed": fl.Pose(0.5, 1.8, -np.pi / 2)}
+    met = []
+    for seed in range(12):
+        out = place_surfaces(plan, floor, np.random.default_rng(seed))
+        report = {r.label: r.satisfied for r in fl.Layout(plan, out.poses).rule_report()}
+        met.append([report["near(towel_rack, bathtub)"], report["facing(bed, tv)"]])
+    assert np.all(met)  # 4 walls: a random wall would miss most of them

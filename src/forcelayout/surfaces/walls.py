@@ -270,11 +270,18 @@ def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gene
             pinned = getattr(b.params, "wall", None)
             walls = [int(pinned)] if pinned is not None else rng.permutation(room.n_walls).tolist()
         spot = None
+        related = _floor_relations(cp, oid, poses) if relations and b.target is None else []
+        # the spot that meets the most of its rules with floor objects, if any is free
+        chosen = (_related_spot(cp, oid, poses, related, blocks, (w, d, h), (low, high),
+                                walls, rng) if related else None)
+        if chosen is not None:
+            walls = [chosen[0]]
         for wall in walls:
             if b.target is not None:
                 u = tc[0] @ room.tangent[wall] - room.tangent_offset[wall]
                 span = (float(u.min()), float(u.max()))
-            spot = _wall_spot(room.length[wall], blocks[wall], w, h, low, high, span, rng)
+            spot = (chosen[1] if chosen is not None else
+                    _wall_spot(room.length[wall], blocks[wall], w, h, low, high, span, rng))
             if spot is not None:
                 u, v = spot
                 blocks[wall].append((u - w / 2, u + w / 2, v, v + h))
@@ -294,6 +301,48 @@ def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gene
                 v + cp.size([b.object])[0, 2]) for b, u, v, _ in items}
         static = [blk for blk in blocks[wall] if blk not in own]
         yield from _wall_plane(cp, wall, items, static, relations, cfg, poses, out, models)
+
+
+#: Spots drawn for a wall object whose rules tie it to floor objects, the best kept.
+_RELATED_SPOTS = 24
+
+
+def _floor_relations(cp: CompiledPlan, oid: str, poses: dict[str, Pose]) -> list[int]:
+    """The plan rules (indices) of floor rules between a wall object and a placed floor
+    object, either way round (a towel rack ``near`` the bathtub; a bed ``facing`` the TV)."""
+    return [b.index for b in cp.bindings
+            if b.rule.surface == "floor" and b.index >= 0
+            and ((b.object == oid and b.target in poses) or (b.target == oid and b.object in poses
+                                                             and b.object != oid))]
+
+
+def _related_spot(cp: CompiledPlan, oid: str, poses: dict[str, Pose], related: list[int],
+                  blocks: dict[int, list[Block]], size: tuple[float, float, float],
+                  band: tuple[float, float], walls: list[int], rng: np.random.Generator
+                  ) -> tuple[int, tuple[float, float]] | None:
+    """Where a wall object goes whose rules tie it to floor objects: of a few free spots
+    on ``walls`` (random walls: each spot on the next of them), the first meeting the most
+    of the ``related`` rules, judged with the floor's poses; ``(wall, (u, v))``, or None
+    where no spot is free."""
+    from forcelayout.layout import Layout
+    from forcelayout.report import judge_rules_many
+
+    room = cp.room
+    w, d, h = size
+    floor = {k: p for k, p in poses.items() if p.surface == "floor"}
+    spots = []
+    for k in range(_RELATED_SPOTS):
+        wall = walls[k % len(walls)]
+        spot = _wall_spot(room.length[wall], blocks[wall], w, h, band[0], band[1], None, rng)
+        if spot is not None:
+            spots.append((wall, spot))
+    if not spots:
+        return None
+    layouts = [Layout(cp.plan, {**floor, oid: wall_pose(room, wall, u, v, d)})
+               for wall, (u, v) in spots]
+    unmet = [sum(results[k].satisfied is False for k in related)
+             for results in judge_rules_many(layouts)]
+    return spots[int(np.argmin(unmet))]
 
 
 def _wall_spot(length: float, blocks: list[Block], w: float, h: float, low: float,

@@ -10,7 +10,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
 from forcelayout.layout import Layout
 from forcelayout.metrics.labels import Canonical, canonical_label
@@ -26,6 +25,14 @@ def _objects(layout: Layout) -> tuple[list[str], np.ndarray, np.ndarray, np.ndar
     size = np.array([layout.plan.object(i).size for i in ids], dtype=float).reshape(-1, 3)
     yaw = np.array([p.yaw for p in poses], dtype=float)
     return ids, pos, size, yaw
+
+
+def _assignment(cost: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`scipy.optimize.linear_sum_assignment`, imported when first needed (scipy's
+    optimize package takes half a second to import: every command line call paid it)."""
+    from scipy.optimize import linear_sum_assignment
+
+    return linear_sum_assignment(cost)
 
 
 def _room_diagonal(layout: Layout) -> float:
@@ -115,6 +122,6 @@ def geometric_dissimilarity(
         cost = np.clip(position_weight * np.minimum(dpos, 1.0)
                        + size_weight * np.minimum(dsize, 1.0)
                        + yaw_weight * np.minimum(dyaw, 1.0), 0.0, 1.0)
-        r, c = linear_sum_assignment(cost)
+        r, c = _assignment(cost)
         total += float(cost[r, c].sum())
     return float(total / count) if count else 0.0

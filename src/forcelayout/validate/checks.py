@@ -47,8 +47,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import shapely
-from scipy import ndimage, sparse
-from scipy.sparse import csgraph
 
 from forcelayout.geometry import (
     RoomGeometry,
@@ -448,7 +446,7 @@ def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarr
             clear = np.ones((len(dist2), *rg.shape), dtype=bool)
         free = rg.wall_free & clear
         # free regions, each floor's numbered on their own (no cell links two floors)
-        labels, _ = ndimage.label(free, structure=_IN_PLANE) if prim else (None, 0)
+        labels, _ = _label(free) if prim else (None, 0)
         reached = None  # (b, P, D): whether each primary object is reached from each door
         if prim and len(rg.door_seeds):
             at = {int(k): i for i, k in enumerate(rows)}
@@ -491,6 +489,15 @@ def _floor_boxes(plan, ids: list[str], pos: np.ndarray, yaw: np.ndarray, half: n
 
 
 #: 4-connected within each floor of a stack (B, H, W), never from one floor to the next.
+def _label(free: np.ndarray) -> tuple[np.ndarray, int]:
+    """:func:`scipy.ndimage.label` of a stack of floors, each numbered on its own (4-connected
+    within a floor); scipy.ndimage is imported when first needed (a third of a second
+    that every command line call had paid)."""
+    from scipy import ndimage
+
+    return ndimage.label(free, structure=_IN_PLANE)
+
+
 _IN_PLANE = np.array([np.zeros((3, 3)), [[0, 1, 0], [1, 1, 1], [0, 1, 0]], np.zeros((3, 3))],
                      dtype=bool)
 
@@ -936,6 +943,8 @@ class _PathFinder:
         self.cells, self.index = cells, index
         cost = np.where(free.ravel()[cells], 1.0, 1.0 + _BLOCKED_COST)
         m = len(cells)
+        from scipy import sparse  # imported when first needed, as scipy.ndimage in _label
+
         self.graph = sparse.csr_matrix((cost[indices], indices, indptr), shape=(m, m))
         self._runs: dict[int, tuple[np.ndarray, list[int]]] = {}
 
@@ -952,6 +961,8 @@ class _PathFinder:
         if len(src) == 0 or len(dst) == 0:
             return []
         if key not in self._runs:
+            from scipy.sparse import csgraph
+
             dist, pred = csgraph.dijkstra(self.graph, indices=src, min_only=True,
                                           return_predecessors=True)[:2]
             # the chain of predecessors is followed on Python ints

@@ -538,3 +538,25 @@ def test_a_reach_widened_as_told_leaves_a_spot(w, d, sill, win, size, distance, 
             fixed, _ = autofix(json.loads(p.to_json()))
             assert fixed["rules"][0]["params"]["distance"] == u.wider
             assert not out_of_reach(Plan.from_dict(fixed))
+
+
+@pytest.mark.parametrize("polygon, wall, offset", [
+    ([[0, 0], [4, 0], [4, 3], [0, 3]], 0, 2.55),  # along its wall, nearest free stretch
+    ([[0, 0], [1.6, 0], [1.6, 3], [0, 3]], 1, 1.5),  # no room on it: another wall
+])
+def test_autofix_moves_a_window_off_the_door_it_overlaps(polygon, wall, offset):
+    data = {"name": "x", "room": {"polygon": polygon,
+                                  "doors": [{"wall": 0, "offset": 0.8, "width": 0.9}],
+                                  "windows": [{"wall": 0, "offset": 0.8, "width": 1.5}]},
+            "objects": [{"id": "bed", "category": "bed", "size": [1.0, 2.0, 0.5]}],
+            "rules": []}
+    if polygon[1][0] == 4:
+        data["room"]["doors"][0]["offset"] = data["room"]["windows"][0]["offset"] = 1.25
+    with pytest.raises(fl.errors.PlanError, match="overlaps room.doors"):
+        Plan.from_dict(data)
+    fixed, notes = autofix(data)
+    window = fixed["room"]["windows"][0]
+    assert (window["wall"], window["offset"]) == (wall, offset)
+    assert any("moved the window" in n for n in notes)
+    Plan.from_dict(fixed)
+    assert autofix(fixed)[1] == []  # nothing left to fix

@@ -383,6 +383,67 @@ def _fix_room_size(data: dict[str, Any], room: dict[str, Any], notes: list[str])
                  "doors and windows keep their relative place")
 
 
+def _free_spot(length: float, width: float, taken: list[tuple[float, float]],
+               near: float) -> float | None:
+    """The centre nearest ``near`` of a ``width`` stretch of a wall ``length`` long clear of
+    the ``taken`` stretches by 0.1 m (and of the wall's ends), or None."""
+    edges, best = 0.0, None
+    for a, b in sorted(taken) + [(length + 0.1, length + 0.1)]:
+        lo, hi = edges + width / 2, a - 0.1 - width / 2
+        if hi >= lo:
+            x = min(max(near, lo), hi)
+            if best is None or abs(x - near) < abs(best - near):
+                best = x
+        edges = max(edges, b + 0.1)
+    return best
+
+
+def _fix_overlaps(room: dict[str, Any], pts: list[tuple[float, float]], notes: list[str]
+                  ) -> None:
+    """Move an opening that shares a stretch of its wall with an earlier one at the same
+    heights (doors first, then windows) to the nearest free stretch of that wall, else to
+    the middle of the longest free stretch of another wall."""
+    n = len(pts)
+    length = [math.dist(pts[i], pts[(i + 1) % n]) for i in range(n)]
+    placed: list[tuple[int, float, float, float, float]] = []  # wall, from, to, low, high
+    for kind, noun in (("doors", "door"), ("windows", "window")):
+        for k, o in enumerate(room.get(kind) or []):
+            if not isinstance(o, dict) or not isinstance(o.get("wall"), int) \
+                    or not 0 <= o["wall"] < n or _num(o.get("offset")) is None:
+                continue
+            width = _num(o.get("width")) or (0.9 if kind == "doors" else 1.2)
+            if kind == "doors":
+                low, high = 0.0, _num(o.get("height")) or 2.05
+            else:
+                low = 0.9 if _num(o.get("sill")) is None else _num(o.get("sill"))
+                high = low + (_num(o.get("height")) or 1.2)
+
+            def taken(wall: int, low: float = low, high: float = high
+                      ) -> list[tuple[float, float]]:
+                return [(a, b) for w, a, b, lo, hi in placed
+                        if w == wall and min(hi, high) - max(lo, low) > 1e-6]
+
+            wall, offset = o["wall"], float(o["offset"])
+            clash = any(min(b, offset + width / 2) - max(a, offset - width / 2) > 1e-6
+                        for a, b in taken(wall))
+            if clash:
+                spot = _free_spot(length[wall], width, taken(wall), offset)
+                new_wall = wall
+                if spot is None:  # the longest free stretch of another wall
+                    others = [(w, _free_spot(length[w], width, taken(w), length[w] / 2))
+                              for w in range(n) if w != wall]
+                    others = [(w, x) for w, x in others if x is not None]
+                    if others:
+                        new_wall, spot = max(others, key=lambda wx: length[wx[0]])
+                if spot is not None:
+                    spot = round(spot, 3)
+                    where = f"to wall {new_wall}" if new_wall != wall else f"along wall {wall}"
+                    notes.append(f"room.{kind}[{k}].offset: moved the {noun} {where} off the "
+                                 f"opening it overlapped: offset {offset:g} -> {spot:g} m")
+                    o["wall"], o["offset"], wall, offset = new_wall, spot, new_wall, spot
+            placed.append((wall, offset - width / 2, offset + width / 2, low, high))
+
+
 def _fix_openings(room: dict[str, Any], notes: list[str]) -> None:
     pts = _points(room)
     if pts is None:
@@ -424,6 +485,7 @@ def _fix_openings(room: dict[str, Any], notes: list[str]) -> None:
                     notes.append(f"{path}.sill: lowered the window from {sill:g} to "
                                  f"{new_sill:g} m so it ends below the {height:g} m ceiling")
                     o["sill"] = new_sill
+    _fix_overlaps(room, pts, notes)
 
 
 def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:

@@ -322,14 +322,13 @@ def _related_spot(cp: CompiledPlan, oid: str, poses: dict[str, Pose], related: l
                   ) -> tuple[int, tuple[float, float]] | None:
     """Where a wall object goes whose rules tie it to floor objects: of a few free spots
     on ``walls`` (random walls: each spot on the next of them), the first meeting the most
-    of the ``related`` rules, judged with the floor's poses; ``(wall, (u, v))``, or None
-    where no spot is free."""
+    of the ``related`` rules, judged with the poses placed so far (the floor and the
+    tops); ``(wall, (u, v))``, or None where no spot is free."""
     from forcelayout.layout import Layout
     from forcelayout.report import judge_rules_many
 
     room = cp.room
     w, d, h = size
-    floor = {k: p for k, p in poses.items() if p.surface == "floor"}
     spots = []
     for k in range(_RELATED_SPOTS):
         wall = walls[k % len(walls)]
@@ -338,7 +337,7 @@ def _related_spot(cp: CompiledPlan, oid: str, poses: dict[str, Pose], related: l
             spots.append((wall, spot))
     if not spots:
         return None
-    layouts = [Layout(cp.plan, {**floor, oid: wall_pose(room, wall, u, v, d)})
+    layouts = [Layout(cp.plan, {**poses, oid: wall_pose(room, wall, u, v, d)})
                for wall, (u, v) in spots]
     unmet = [sum(results[k].satisfied is False for k in related)
              for results in judge_rules_many(layouts)]

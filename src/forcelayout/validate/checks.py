@@ -489,6 +489,10 @@ def _floor_boxes(plan, ids: list[str], pos: np.ndarray, yaw: np.ndarray, half: n
 
 
 #: 4-connected within each floor of a stack (B, H, W), never from one floor to the next.
+_IN_PLANE = np.array([np.zeros((3, 3)), [[0, 1, 0], [1, 1, 1], [0, 1, 0]], np.zeros((3, 3))],
+                     dtype=bool)
+
+
 def _label(free: np.ndarray) -> tuple[np.ndarray, int]:
     """:func:`scipy.ndimage.label` of a stack of floors, each numbered on its own (4-connected
     within a floor); scipy.ndimage is imported when first needed (a third of a second
@@ -496,10 +500,6 @@ def _label(free: np.ndarray) -> tuple[np.ndarray, int]:
     from scipy import ndimage
 
     return ndimage.label(free, structure=_IN_PLANE)
-
-
-_IN_PLANE = np.array([np.zeros((3, 3)), [[0, 1, 0], [1, 1, 1], [0, 1, 0]], np.zeros((3, 3))],
-                     dtype=bool)
 
 
 class _Footprints:

@@ -17,6 +17,8 @@ from forcelayout.geometry import (
     front_vectors,
     obb_gap,
     right_vectors,
+    toward_nearest,
+    yaw_facing,
 )
 
 coord = st.floats(-3.0, 3.0, allow_nan=False)
@@ -152,3 +154,18 @@ def test_contains_boxes_takes_a_box_as_wide_as_the_room_and_no_box_a_wall_crosse
                       box(-0.1, 1.0, 1.0, 2.0)])  # through a wall
     assert u_room.contains_boxes(boxes).tolist() == [True, True, False, True, False]
     assert u_room.contains_boxes(boxes[None]).shape == (1, 5)
+
+
+@given(st.floats(-np.pi + 1e-6, np.pi, allow_nan=False))
+def test_yaw_facing_inverts_front_vectors(yaw):
+    assert np.isclose(yaw_facing(front_vectors(yaw) * 2.5), yaw)
+
+
+def test_toward_nearest_points_at_the_nearest_centre():
+    centres = np.array([[0.0, 0.0], [4.0, 0.0]])
+    points = np.array([[[1.0, 1.0], [3.0, -1.0]], [[2.5, 0.0], [-1.0, 0.0]]])  # (2, 2, 2)
+    got = toward_nearest(points, centres)
+    assert got.shape == points.shape
+    assert np.allclose(got, [[[-1.0, -1.0], [1.0, 1.0]], [[1.5, 0.0], [1.0, 0.0]]])
+    # a point turned by yaw_facing of it faces that centre
+    assert np.allclose(front_vectors(yaw_facing(got[0, 0])), got[0, 0] / np.sqrt(2.0))

@@ -63,8 +63,6 @@ _SIDE_PLACES = frozenset({"beside", "left", "right", "front", "back"})
 _TARGET_PLACES = StartHint.PLACES - _ROOM_PLACES - {"all_round"}
 #: Metres from an opening's centre a draw near it reaches where no rule says how far.
 _OPENING_REACH = 1.4
-#: Turns towards the room's openings, and which openings.
-_OPENING_TURNS = {"face_window": "windows", "face_door": "doors"}
 #: Gap a wall-snapped footprint keeps from its wall, metres (the at_wall check allows 0.05).
 _WALL_GAP = 0.005
 
@@ -273,7 +271,8 @@ def _compile(plan: Plan) -> _Compiled:
                       if cls.start is not None and cls.start.turn and t in fset and t != oid)
         # turned towards an opening only where no rule turns it towards a target
         turns = turns or tuple((cls.start.turn, None) for cls, _ in rules[oid]
-                               if cls.start is not None and cls.start.turn in _OPENING_TURNS)
+                               if cls.start is not None
+                               and cls.start.turn in StartHint.OPENING_TURNS)
         hints[oid] = _Hint(places, parent.get(oid), near.get(oid), turns, reach.get(oid, 0.0))
     area = {o.id: o.size[0] * o.size[1] for o in plan.objects}
     kids: dict[str | None, list[str]] = {}
@@ -298,11 +297,6 @@ def _cardinal(rng: np.random.Generator, k: int) -> np.ndarray:
     return rng.integers(0, 4, size=k) * (math.pi / 2)
 
 
-def _yaw_facing(direction: np.ndarray) -> np.ndarray:
-    """Yaw whose front (local +y) points along ``direction`` (K, 2)."""
-    return np.arctan2(-direction[..., 0], direction[..., 1])
-
-
 def _extent(yaw: np.ndarray, half: np.ndarray, u: np.ndarray) -> np.ndarray:
     """Half extent of footprints with headings ``yaw`` (K,) along unit directions ``u`` (K, 2)."""
     return (np.abs((u * geo.right_vectors(yaw)).sum(-1)) * half[..., 0]
@@ -316,7 +310,7 @@ def _against_wall(room: RoomGeometry, wall: np.ndarray, along: np.ndarray, half:
     along = np.clip(along, lo, room.length[wall] - lo)
     n = room.normal[wall]
     pos = room.a[wall] + room.tangent[wall] * along[:, None] + n * (half[1] + _WALL_GAP)
-    return pos, _yaw_facing(n)
+    return pos, geo.yaw_facing(n)
 
 
 def _snap_nearest_wall(room: RoomGeometry, pos: np.ndarray, half: np.ndarray
@@ -372,7 +366,7 @@ def _random_corner(c: _Compiled, rng: np.random.Generator, k: int, half: np.ndar
     ws = np.where(back_first, after[pick], before[pick])  # the wall at its side
     pos = (room.a[vert[pick]] + room.normal[wb] * (half[1] + _WALL_GAP)
            + room.normal[ws] * (half[0] + _WALL_GAP))
-    return pos, _yaw_facing(room.normal[wb])
+    return pos, geo.yaw_facing(room.normal[wb])
 
 
 def _around_target(rng: np.random.Generator, k: int, tp: Pose, thalf: np.ndarray,
@@ -387,7 +381,7 @@ def _around_target(rng: np.random.Generator, k: int, tp: Pose, thalf: np.ndarray
     along = rng.uniform(-1.0, 1.0, k) * np.maximum(lengths[s] - half[0], 0.0)
     pos = (np.array([tp.x, tp.y]) + normals[s] * (depths[s] + half[1] + gap)[:, None]
            + axes[s] * along[:, None])
-    return pos, _yaw_facing(-normals[s])
+    return pos, geo.yaw_facing(-normals[s])
 
 
 def _near_target(rng: np.random.Generator, k: int, where: str | None, tp: Pose,
@@ -459,17 +453,15 @@ def _propose(c: _Compiled, oid: str, rng: np.random.Generator, k: int,
     pos, yaw = out
     if not snapped and not square:  # turn as the rules ask (face a target, share its heading)
         for turn, target in hint.turns:
-            openings = _OPENING_TURNS.get(turn)
-            if openings is not None:  # towards the nearest window (door)
-                centres = getattr(room, openings).centre
+            kind = StartHint.OPENING_TURNS.get(turn)
+            if kind is not None:  # towards the nearest window (door)
+                centres = getattr(room, kind).centre
                 if len(centres):
-                    d = centres[None] - pos[:, None]
-                    near = d[np.arange(k), np.argmin((d * d).sum(-1), axis=1)]
-                    yaw = _yaw_facing(near)
+                    yaw = geo.yaw_facing(geo.toward_nearest(pos, centres))
                     break
             elif target in poses:
                 tp = poses[target]
-                yaw = (_yaw_facing(np.array([tp.x, tp.y]) - pos) if turn == "face_target"
+                yaw = (geo.yaw_facing(np.array([tp.x, tp.y]) - pos) if turn == "face_target"
                        else np.full(k, tp.yaw))
                 break
     return pos, yaw

@@ -27,6 +27,8 @@ __all__ = [
     "Openings",
     "front_vectors",
     "right_vectors",
+    "yaw_facing",
+    "toward_nearest",
     "box_corners",
     "box_sides",
     "box_gap",
@@ -57,6 +59,22 @@ def front_vectors(yaw: np.ndarray) -> np.ndarray:
     """Unit front directions ``(-sin yaw, cos yaw)``, shape ``yaw.shape + (2,)``."""
     yaw = np.asarray(yaw, dtype=float)
     return np.stack([-np.sin(yaw), np.cos(yaw)], axis=-1)
+
+
+def yaw_facing(direction: np.ndarray) -> np.ndarray:
+    """The yaw whose front (local +y) points along ``direction`` (..., 2): the inverse of
+    :func:`front_vectors` for unit directions; shape ``direction.shape[:-1]``."""
+    direction = np.asarray(direction, dtype=float)
+    return np.arctan2(-direction[..., 0], direction[..., 1])
+
+
+def toward_nearest(points: np.ndarray, centres: np.ndarray) -> np.ndarray:
+    """From each of ``points`` (..., 2) to the nearest of ``centres`` (M, 2), M >= 1: the
+    offsets, shape (..., 2) (the first of equally near centres)."""
+    points = np.asarray(points, dtype=float)
+    d = np.asarray(centres, dtype=float)[None] - points.reshape(-1, 1, 2)
+    k = np.argmin((d * d).sum(-1), axis=1)
+    return d[np.arange(len(d)), k].reshape(points.shape)
 
 
 def right_vectors(yaw: np.ndarray) -> np.ndarray:

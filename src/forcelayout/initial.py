@@ -25,7 +25,7 @@ from forcelayout.access import AccessTerm, zone_boxes
 from forcelayout.batching import SampleTask, drive
 from forcelayout.clearance import WindowTerm
 from forcelayout.forces import ForceModel, RuleGroup
-from forcelayout.rules.base import ParamArrays, State
+from forcelayout.rules.base import ParamArrays, StartHint, State
 from forcelayout.surfaces.walls import back_wall, hanging_centres, target_stand
 from forcelayout.verdict import FloorVerdict, JudgeRequest
 
@@ -207,28 +207,17 @@ def _side_room(model: ForceModel, parent: np.ndarray, wants: list[_Wants]
     return sides, count, either
 
 
-def _yaw_facing(direction: np.ndarray) -> np.ndarray:
-    """Yaw whose front (local +y) points along ``direction`` (K, 2)."""
-    return np.arctan2(-direction[:, 0], direction[:, 1])
-
-
 def _opening_turn(room, turns: set[str], places: set[str]) -> np.ndarray | None:
     """The centres (M, 2) of the openings an object's start turns its front towards
     (``face_window`` / ``face_door``), or None: none asked, none in the room, the object
     backed against a wall, or a rule turning it towards its target."""
     if places & {"wall", "corner"} or turns & {"face_target", "target_heading"}:
         return None
-    for turn, openings in (("face_window", room.windows), ("face_door", room.doors)):
+    for turn, kind in StartHint.OPENING_TURNS.items():
+        openings = getattr(room, kind)
         if turn in turns and len(openings):
             return openings.centre
     return None
-
-
-def _yaw_facing_nearest(cand: np.ndarray, centres: np.ndarray) -> np.ndarray:
-    """Headings (...) turning candidates (..., 2) to face the nearest of ``centres`` (M, 2)."""
-    d = centres[None] - cand.reshape(-1, 1, 2)
-    k = np.argmin((d * d).sum(-1), axis=1)
-    return _yaw_facing(d[np.arange(len(d)), k]).reshape(cand.shape[:-1])
 
 
 def _each(rngs: Sequence[np.random.Generator], draw: Callable[[np.random.Generator], Any]
@@ -256,7 +245,7 @@ def _snap_to_wall(
     lo = np.minimum(half[0] + 0.01, length * 0.5)  # clear of the wall at its end
     along = np.minimum(np.maximum(along, lo), length - lo)
     pos = room.a[walls] + tan * along[:, None] + n * (half[1] + 0.01)
-    return pos.reshape(*shape, 2), _yaw_facing(n).reshape(shape)
+    return pos.reshape(*shape, 2), geo.yaw_facing(n).reshape(shape)
 
 
 def _wall_candidates(
@@ -326,7 +315,7 @@ def _corner_candidates(
     ws = np.where(back_first, w2, w1)  # wall at its side
     pos = (room.a[v] + room.normal[wb] * (half[1] + 0.01)
            + room.normal[ws] * (half[0] + 0.01))
-    return pos, _yaw_facing(room.normal[wb].reshape(-1, 2)).reshape(wb.shape)
+    return pos, geo.yaw_facing(room.normal[wb].reshape(-1, 2)).reshape(wb.shape)
 
 
 def _back_walls(room, p: np.ndarray, yaw: np.ndarray, half: np.ndarray) -> np.ndarray:
@@ -370,7 +359,7 @@ def _child_candidates(room, rngs, k, wants: _Wants, q: np.ndarray, r, pos, yaw, 
         lat = np.stack([lateral(g, float(m)) for g, m in zip(rngs, reach, strict=True)])
         cand = pq + sign * fq * dist[..., None] + rq * lat[..., None]
         if "face_target" in turns:
-            return cand, _yaw_facing((pq - cand).reshape(-1, 2)).reshape(nb, k)
+            return cand, geo.yaw_facing((pq - cand).reshape(-1, 2)).reshape(nb, k)
         return cand, same
     if places & _SIDE_PLACES:
         wall = (_back_walls(room, pos[bi, q], yq, hq) if "wall" in places
@@ -397,7 +386,7 @@ def _child_candidates(room, rngs, k, wants: _Wants, q: np.ndarray, r, pos, yaw, 
         past = out + fa * (ha[..., 1:2] + half[r, 0] + gp[:, :m])
         round_corner = _snap_to_wall(room, past, half[r])
         moved = round_corner[0] - past  # onto a wall across that side, facing the parent
-        facing = _yaw_facing((-sd[:, :m, None] * ra).reshape(-1, 2)).reshape(len(at), m)
+        facing = geo.yaw_facing((-sd[:, :m, None] * ra).reshape(-1, 2)).reshape(len(at), m)
         use = ((np.arange(m) % 2 == 1) & (np.abs(np.sin(round_corner[1] - facing)) < 0.1)
                & (np.cos(round_corner[1] - facing) > 0)
                & (np.hypot(moved[..., 0], moved[..., 1]) <= 2.0 * half[r, 1] + _BESIDE
@@ -421,7 +410,7 @@ def _child_candidates(room, rngs, k, wants: _Wants, q: np.ndarray, r, pos, yaw, 
             reach = np.maximum(lengths[s] - half[r, 0], 0.0)
             out_c[b] = (pq[b] + normals[s] * (depths[s] + half[r, 1] + gap[b, :, 0])[:, None]
                         + axes[s] * (rngs[b].uniform(-1.0, 1.0, k) * reach)[:, None])
-            out_y[b] = _yaw_facing(-normals[s])
+            out_y[b] = geo.yaw_facing(-normals[s])
         return out_c, out_y
     if "wall" in places and "face_target" in turns:  # across the room, on the wall it faces
         span = float(np.hypot(*(room.bounds[2:] - room.bounds[:2])))
@@ -434,7 +423,7 @@ def _child_candidates(room, rngs, k, wants: _Wants, q: np.ndarray, r, pos, yaw, 
     if "wall" in places:
         return _snap_to_wall(room, cand, half[r])
     if "face_target" in turns:
-        return cand, _yaw_facing((pq - cand).reshape(-1, 2)).reshape(nb, k)
+        return cand, geo.yaw_facing((pq - cand).reshape(-1, 2)).reshape(nb, k)
     if "target_heading" in turns:
         return cand, same
     return cand, _each(rngs, lambda g: g.uniform(-np.pi, np.pi, k))
@@ -1193,7 +1182,7 @@ class _Placer:
         cyaw = np.concatenate([cyaw, more_yaw], axis=1)
         toward = _opening_turn(room, w.turns, places)
         if toward is not None:  # front towards the nearest window (or door)
-            cyaw = _yaw_facing_nearest(cand, toward)
+            cyaw = geo.yaw_facing(geo.toward_nearest(cand, toward))
         return cand, cyaw, loose
 
     def _best(self, r: int, placed: Sequence[Sequence[int]], pos: np.ndarray, yaw: np.ndarray,

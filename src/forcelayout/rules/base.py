@@ -101,8 +101,10 @@ class StartHint:
     PLACES: ClassVar[frozenset[str]] = frozenset(
         {"wall", "corner", "middle", "window", "door", "beside", "left", "right", "front",
          "back", "all_round", "beneath"})
-    TURNS: ClassVar[frozenset[str]] = frozenset(
-        {"face_target", "target_heading", "face_window", "face_door"})
+    #: The turns towards the room's openings, and which openings (``RoomGeometry`` fields).
+    OPENING_TURNS: ClassVar[dict[str, str]] = {"face_window": "windows", "face_door": "doors"}
+    TURNS: ClassVar[frozenset[str]] = frozenset({"face_target", "target_heading",
+                                                 *OPENING_TURNS})
 
     def __post_init__(self) -> None:
         if self.place is not None and self.place not in self.PLACES:

@@ -190,6 +190,14 @@ MIN_RULES_HELP = ("share of the plan's rules every accepted layout meets (defaul
                   "yield and time on crowded plans)")
 
 
+def _min_rules(args: argparse.Namespace) -> float:
+    """``--min-rules`` of ``generate`` or ``dataset`` (the default acceptance where a caller's
+    namespace has none)."""
+    from forcelayout.options import Options
+
+    return float(getattr(args, "min_rules", Options().min_rule_satisfaction))
+
+
 class _Parser(argparse.ArgumentParser):
     """An argument parser that says what is wrong with the command line in one line (and
     where the usage is), not the whole usage text first."""

@@ -32,7 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from forcelayout import examples
-from forcelayout.cli import ACCESS_HELP, MIN_RULES_HELP
+from forcelayout.cli import ACCESS_HELP, MIN_RULES_HELP, _min_rules
 from forcelayout.dataset import INDEX, MANIFEST, DatasetError, build_dataset
 from forcelayout.diagnose import feasibility_warnings_as_lines
 from forcelayout.options import Options
@@ -203,9 +203,7 @@ def run_dataset(args: argparse.Namespace) -> int:
                                        options=Options(
                                            check_kwargs={"access_clearance": True}
                                            if args.access else {},
-                                           min_rule_satisfaction=getattr(
-                                               args, "min_rules",
-                                               Options().min_rule_satisfaction)),
+                                           min_rule_satisfaction=_min_rules(args)),
                                        prompts=prompts,
                                        progress=not args.quiet, judge=judge,
                                        assets=args.assets, judge_timeout=args.judge_timeout)

@@ -29,6 +29,7 @@ import warnings
 from concurrent.futures import Executor, Future
 from pathlib import Path
 
+from forcelayout.cli import _min_rules
 from forcelayout.dataset import layout_stem
 from forcelayout.diagnose import FewLayoutsWarning, feasibility_warnings_as_lines
 from forcelayout.errors import InputError
@@ -77,11 +78,6 @@ def _draw(layout: Layout, path: Path, access: bool = False) -> None:
     """Write one layout's picture (in the main process or a worker), with its access
     zones when the run keeps them free."""
     layout.picture(path, show_access=access)
-
-
-def _min_rules(args: argparse.Namespace) -> float:
-    """``--min-rules`` (the default acceptance where a caller's namespace has none)."""
-    return float(getattr(args, "min_rules", Options().min_rule_satisfaction))
 
 
 def run_generate(args: argparse.Namespace) -> int:

@@ -386,16 +386,12 @@ def _fix_room_size(data: dict[str, Any], room: dict[str, Any], notes: list[str])
 def _free_spot(length: float, width: float, taken: list[tuple[float, float]],
                near: float) -> float | None:
     """The centre nearest ``near`` of a ``width`` stretch of a wall ``length`` long clear of
-    the ``taken`` stretches by 0.1 m (and of the wall's ends), or None."""
-    edges, best = 0.0, None
-    for a, b in sorted(taken) + [(length + 0.1, length + 0.1)]:
-        lo, hi = edges + width / 2, a - 0.1 - width / 2
-        if hi >= lo:
-            x = min(max(near, lo), hi)
-            if best is None or abs(x - near) < abs(best - near):
-                best = x
-        edges = max(edges, b + 0.1)
-    return best
+    the ``taken`` stretches by 0.1 m (and within the wall), or None."""
+    from forcelayout.surfaces.walls import free_intervals
+
+    free = free_intervals(length, [(a, b, 0.0, 1.0) for a, b in taken], 0.0, 1.0, margin=0.1)
+    spots = [min(max(near, a + width / 2), b - width / 2) for a, b in free if b - a >= width]
+    return min(spots, key=lambda x: abs(x - near), default=None)
 
 
 def _fix_overlaps(room: dict[str, Any], pts: list[tuple[float, float]], notes: list[str]

@@ -79,6 +79,16 @@ def test_llm_without_openai_raises_import_error_naming_the_extra():
     assert 'pip install "forcelayout[llm]"' in out
 
 
+def test_the_plan_command_imports_openai_only_to_talk_to_a_server():
+    code = ("import sys, forcelayout.llm.cli, forcelayout.llm\n"
+            "print('openai' in sys.modules)\n"
+            "forcelayout.llm.OpenAIChatClient(base_url='http://127.0.0.1:9', model='m')\n"
+            "print('openai' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=60).stdout.split()
+    assert out == ["False", "True"]
+
+
 def test_five_steps_give_a_valid_plan_with_structured_output(server):
     plan = Planner(client_for(server)).plan(PROMPT)
     assert isinstance(plan, Plan)

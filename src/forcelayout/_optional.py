@@ -15,11 +15,12 @@ Examples
 from __future__ import annotations
 
 import importlib
+import importlib.util
 from types import ModuleType
 
 from forcelayout.errors import MissingExtraError
 
-__all__ = ["import_optional"]
+__all__ = ["import_optional", "require_optional"]
 
 
 def import_optional(module: str, extra: str, *, package: str | None = None) -> ModuleType:
@@ -49,10 +50,36 @@ def import_optional(module: str, extra: str, *, package: str | None = None) -> M
     try:
         return importlib.import_module(module)
     except ImportError as e:
-        top = module.partition(".")[0]
-        what = repr(top) if package is None else f"{package!r} (module {top!r})"
-        raise MissingExtraError(
-            f"this feature needs the optional package {what}, which is not installed "
-            f"({e}). Install it with: pip install \"forcelayout[{extra}]\"",
-            name=module,
-        ) from e
+        raise _missing(module, extra, package, str(e)) from e
+
+
+def require_optional(module: str, extra: str, *, package: str | None = None) -> None:
+    """Check that ``module`` is installed without importing it.
+
+    For a subpackage that imports a slow dependency only where it is used
+    (``forcelayout.llm`` imports ``openai`` when a client is made), so that
+    importing the subpackage still fails at once, naming the extra, but does
+    not pay for the import. Parameters as :func:`import_optional`.
+
+    Raises
+    ------
+    MissingExtraError
+        If no installed package provides the top-level module.
+    """
+    top = module.partition(".")[0]
+    try:
+        found = importlib.util.find_spec(top) is not None
+    except (ImportError, ValueError):
+        found = False
+    if not found:
+        raise _missing(module, extra, package, f"No module named {top!r}")
+
+
+def _missing(module: str, extra: str, package: str | None, why: str) -> MissingExtraError:
+    top = module.partition(".")[0]
+    what = repr(top) if package is None else f"{package!r} (module {top!r})"
+    return MissingExtraError(
+        f"this feature needs the optional package {what}, which is not installed "
+        f"({why}). Install it with: pip install \"forcelayout[{extra}]\"",
+        name=module,
+    )

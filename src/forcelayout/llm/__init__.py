@@ -15,12 +15,13 @@ Examples
 >>> plan = plan_from_prompt("a student's bedroom", replay="run.jsonl")  # doctest: +SKIP
 
 Importing this module without the ``openai`` package raises an ImportError
-that says ``pip install "forcelayout[llm]"``.
+that says ``pip install "forcelayout[llm]"``; ``openai`` itself is imported
+when an :class:`OpenAIChatClient` is made (replaying a recording never needs it).
 """
 
-from forcelayout._optional import import_optional
+from forcelayout._optional import require_optional
 
-import_optional("openai", "llm")
+require_optional("openai", "llm")
 
 from forcelayout.llm.client import (  # noqa: E402
     DEFAULT_MODEL,

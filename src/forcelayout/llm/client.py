@@ -25,8 +25,6 @@ from typing import Any, Literal, Protocol, runtime_checkable
 
 from forcelayout._optional import import_optional
 
-openai = import_optional("openai", "llm")
-
 __all__ = [
     "ChatClient",
     "Message",
@@ -232,7 +230,8 @@ class OpenAIChatClient:
         #: one negotiated so far.
         self.mode: str = "json_schema" if structured == "auto" else structured
         self.max_retries = int(max_retries)
-        self._sdk = openai.OpenAI(base_url=self.base_url, api_key=key, timeout=self.timeout,
+        self._openai = import_optional("openai", "llm")
+        self._sdk = self._openai.OpenAI(base_url=self.base_url, api_key=key, timeout=self.timeout,
                                   max_retries=int(max_retries))
 
     def __repr__(self) -> str:
@@ -287,6 +286,7 @@ class OpenAIChatClient:
         return self._send(sdk, kwargs)
 
     def _send(self, sdk: Any, kwargs: dict[str, Any]) -> str:
+        openai = self._openai
         try:
             resp = sdk.chat.completions.create(**kwargs)
         except openai.APITimeoutError:

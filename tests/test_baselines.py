@@ -276,3 +276,25 @@ def test_a_wall_object_near_a_door_is_drawn_on_any_wall_within_the_rules_reach()
     door = RoomGeometry.from_room(plan.room).doors.centre[0]
     dist = [math.dist((lay.poses["cabinet"].x, lay.poses["cabinet"].y), door) for lay in run]
     assert max(dist) <= 1.9 and max(dist) > 1.5  # spread over the rule's whole reach
+
+
+def test_a_cabinet_near_the_front_door_of_two_stands_by_that_door_in_both_samplers() -> None:
+    """``near_door`` with ``door`` set: the start poses and the baseline's draws lean
+    towards that door, and every good layout has the cabinet by it."""
+    plan = Plan.from_dict({
+        "name": "hall",
+        "room": {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]],
+                 "doors": [{"wall": 0, "offset": 1.0}, {"wall": 2, "offset": 2.5}]},
+        "objects": [{"id": "cabinet", "category": "shoe_cabinet", "size": [0.8, 0.35, 1.0]},
+                    {"id": "bench", "category": "bench", "size": [1.0, 0.4, 0.45]}],
+        "rules": [{"rule": "at_wall", "object": "cabinet"},
+                  {"rule": "near_door", "object": "cabinet",
+                   "params": {"door": 1, "distance": 1.2}},
+                  {"rule": "at_wall", "object": "bench"}]})
+    door = RoomGeometry.from_room(plan.room).doors.centre[1]
+    ours = list(fl.generate(plan, n=10, seed=0, min_rule_satisfaction=1.0))
+    theirs = rejection_sample(plan, 10, seed=0, max_tries=400, min_rule_satisfaction=1.0).layouts
+    for run in (ours, theirs):
+        assert len(run) == 10
+        assert all(math.dist((lay.poses["cabinet"].x, lay.poses["cabinet"].y), door) <= 1.2
+                   for lay in run)

@@ -125,6 +125,35 @@ def test_near_door_pulls_towards_the_door():
     assert ok[0]
 
 
+TWO_DOORS = {"polygon": [[0, 0], [4, 0], [4, 3.5], [0, 3.5]],
+             "doors": [{"wall": 0, "offset": 1.0}, {"wall": 2, "offset": 3.0}]}
+
+
+def test_near_door_with_a_door_index_means_that_door_only():
+    # beside door 1 (top wall, centre (1, 3.5)); door 0 is at (1, 0)
+    pos, size = [[1.2, 3.0], [1.2, 0.5]], [[0.6, 0.6]] * 2
+    _, _, ok, _ = run("near_door", pos, [0.0, 0.0], size, room=TWO_DOORS)
+    assert ok.tolist() == [True, True]  # the nearest door: either
+    f, _, ok, _ = run("near_door", pos, [0.0, 0.0], size, room=TWO_DOORS, door=1)
+    assert ok.tolist() == [True, False]
+    assert f[1, 1] > 0  # pulled past the nearer door 0 towards door 1
+    _, _, ok, _ = run("near_door", pos, [0.0, 0.0], size, room=TWO_DOORS, door=0)
+    assert ok.tolist() == [False, True]
+
+
+def test_a_door_index_the_room_has_not_is_refused_naming_the_field():
+    plan = {"name": "hall", "room": TWO_DOORS,
+            "objects": [{"id": "cabinet", "category": "shoe_cabinet", "size": [0.8, 0.35, 1.0]}],
+            "rules": [{"rule": "near_door", "object": "cabinet", "params": {"door": 2}},
+                      {"rule": "near_window", "object": "cabinet", "params": {"window": 0}}]}
+    with pytest.raises(fl.PlanError) as info:
+        fl.Plan.from_dict(plan)
+    text = str(info.value)
+    assert "rules[0] (near_door).params.door: there is no door 2" in text
+    assert "index 0, 1" in text
+    assert "rules[1] (near_window).params.window: there is no window 0" in text
+
+
 def test_away_from_door_pushes_away_from_the_door():
     f, _, ok, _ = run("away_from_door", [[1.2, 0.8]], [0.0], [[0.6, 0.6]])
     assert f[0, 1] > 0 and not ok[0]

@@ -209,6 +209,8 @@ class _Hint:
     # how far from its room place its rules let it be: metres from an opening, a share of
     # the room's extent from the middle (StartHint.reach); 0 where no rule says
     reach: float = 0.0
+    # the one window or door a rule picks by its index (StartHint.which): (kind, index)
+    picks: tuple[tuple[str, int], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -244,13 +246,20 @@ def _compile(plan: Plan) -> _Compiled:
     fset = set(floor)
     rules: dict[str, list[tuple[type[Rule], str | None]]] = {i: [] for i in floor}
     reach: dict[str, float] = {}
+    picks: dict[str, dict[str, int]] = {}
     for spec in plan.rules:
         cls = _rule_class(spec.rule)
         if cls.surface == "floor" and spec.object in fset:
             rules[spec.object].append((cls, spec.target))
-            if cls.start is not None and cls.start.reach is not None:
-                bound = float(getattr(cls.Params(**(spec.params or {})), cls.start.reach))
-                reach[spec.object] = max(reach.get(spec.object, 0.0), bound)
+            hint = cls.start
+            if hint is not None and (hint.reach or hint.which) is not None:
+                params = cls.Params(**(spec.params or {}))
+                if hint.reach is not None:
+                    bound = float(getattr(params, hint.reach))
+                    reach[spec.object] = max(reach.get(spec.object, 0.0), bound)
+                if hint.which is not None and int(getattr(params, hint.which)) >= 0:
+                    picks.setdefault(spec.object, {})[hint.place] = int(
+                        getattr(params, hint.which))
     parent: dict[str, str] = {}
     near: dict[str, str | None] = {}
     for oid in floor:  # the strongest bond (lowest StartHint.parent) that makes no cycle
@@ -273,7 +282,8 @@ def _compile(plan: Plan) -> _Compiled:
         turns = turns or tuple((cls.start.turn, None) for cls, _ in rules[oid]
                                if cls.start is not None
                                and cls.start.turn in StartHint.OPENING_TURNS)
-        hints[oid] = _Hint(places, parent.get(oid), near.get(oid), turns, reach.get(oid, 0.0))
+        hints[oid] = _Hint(places, parent.get(oid), near.get(oid), turns, reach.get(oid, 0.0),
+                           tuple(sorted(picks.get(oid, {}).items())))
     area = {o.id: o.size[0] * o.size[1] for o in plan.objects}
     kids: dict[str | None, list[str]] = {}
     for oid in floor:
@@ -324,24 +334,35 @@ def _snap_nearest_wall(room: RoomGeometry, pos: np.ndarray, half: np.ndarray
     return _against_wall(room, wall, t[np.arange(len(pos)), wall], half)
 
 
-def _near_opening(rng: np.random.Generator, k: int, openings: list, reach: float
+def _opening_centres(room: RoomGeometry, hint: _Hint) -> list[np.ndarray]:
+    """The centres (K, 2) of the windows, then the doors, that an object's rules ask it
+    to start near: every one of the kind, or the one a rule picks."""
+    picks = dict(hint.picks)
+    out = []
+    for kind, o in (("window", room.windows), ("door", room.doors)):
+        if kind in hint.places and len(o):
+            k = picks.get(kind, -1)
+            out.append(o.centre[[k]] if 0 <= k < len(o) else o.centre)
+    return out
+
+
+def _near_opening(rng: np.random.Generator, k: int, openings: list[np.ndarray], reach: float
                   ) -> np.ndarray:
     """``k`` points evenly over the disc of radius ``reach`` (1.4 m where no rule says)
-    round a random opening of a random kind among ``openings``."""
-    o = openings[int(rng.integers(0, len(openings)))]
+    round a random opening of a random kind among ``openings`` (centres of each kind)."""
+    centres = openings[int(rng.integers(0, len(openings)))]
     ang = rng.uniform(-math.pi, math.pi, k)
     r = (reach if reach > 0 else _OPENING_REACH) * np.sqrt(rng.random(k))
-    return o.centre[rng.integers(0, len(o), k)] + r[:, None] * np.stack(
+    return centres[rng.integers(0, len(centres), k)] + r[:, None] * np.stack(
         [np.cos(ang), np.sin(ang)], axis=1)
 
 
 def _random_wall(c: _Compiled, rng: np.random.Generator, k: int, half: np.ndarray,
-                 places: frozenset[str], reach: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+                 hint: _Hint) -> tuple[np.ndarray, np.ndarray]:
     """``k`` poses against random walls (near a window/door if the rules ask: within their
     ``reach`` of it, against whichever wall is nearest)."""
-    room = c.room
-    openings = [o for name, o in (("window", room.windows), ("door", room.doors))
-                if name in places and len(o)]
+    room, reach = c.room, hint.reach
+    openings = _opening_centres(room, hint)
     if openings:  # within the rules' reach of an opening, against the nearest wall
         return _snap_nearest_wall(room, _near_opening(rng, k, openings, reach), half)
     need = 2 * half[0] + 0.02
@@ -436,12 +457,11 @@ def _propose(c: _Compiled, oid: str, rng: np.random.Generator, k: int,
     elif "corner" in places:
         out = _random_corner(c, rng, k, half)
     if out is None and snapped:  # a wall, or a room without convex corners
-        out = _random_wall(c, rng, k, half, places, hint.reach)
+        out = _random_wall(c, rng, k, half, hint)
     if out is None:
         xmin, ymin, xmax, ymax = room.bounds
         ext = np.array([xmax - xmin, ymax - ymin])
-        openings = [o for name, o in (("window", room.windows), ("door", room.doors))
-                    if name in places and len(o)]
+        openings = _opening_centres(room, hint)
         if "middle" in places:
             share = hint.reach if hint.reach > 0 else 0.25
             pos = room.centroid + (rng.random((k, 2)) * 2 - 1) * share * ext

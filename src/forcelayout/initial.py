@@ -63,6 +63,8 @@ class _Wants:
     # from that wall (surfaces.walls.target_stand)
     hanging: list[tuple[np.ndarray, tuple[float, float]]] = field(default_factory=list)
     reach: float = 0.0  # how far from its start place its rules let it be (0: unsaid)
+    # the one window or door a rule picks, by kind ("window", "door") -> index in the room's
+    picks: dict[str, int] = field(default_factory=dict)
 
 
 def parents(model: ForceModel) -> np.ndarray:
@@ -150,6 +152,8 @@ def _wants(model: ForceModel) -> list[_Wants]:
                 w.turns.add(hint.turn)
             if hint.reach is not None:
                 w.reach = max(w.reach, float(getattr(g.params, hint.reach)[b]))
+            if hint.which is not None and getattr(g.params, hint.which)[b] >= 0:
+                w.picks[hint.place] = int(getattr(g.params, hint.which)[b])
     row = {oid: k for k, oid in enumerate(model.ids)}
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
@@ -217,6 +221,17 @@ def _opening_turn(room, turns: set[str], places: set[str]) -> np.ndarray | None:
         openings = getattr(room, kind)
         if turn in turns and len(openings):
             return openings.centre
+    return None
+
+
+def _opening_centres(room, w: _Wants) -> np.ndarray | None:
+    """The centres (K, 2) of the openings an object starts near: the windows if its
+    rules ask for one, else the doors (every one of the kind, or the one a rule picks);
+    None if neither."""
+    for kind, o in (("window", room.windows), ("door", room.doors)):
+        if kind in w.places and len(o):
+            k = w.picks.get(kind, -1)
+            return o.centre[[k]] if 0 <= k < len(o) else o.centre
     return None
 
 
@@ -1129,16 +1144,14 @@ class _Placer:
         cyaw = _each(rngs, lambda g: g.integers(0, 4, tries)) * (0.5 * np.pi)
         corner = _corner_candidates(room, rngs, tries, half[r]) if "corner" in places else None
         loose = 0  # the first candidates, drawn with no wall kept free beside them
-        opening = (room.windows if "window" in places and len(room.windows) else
-                   room.doors if "door" in places and len(room.doors) else None)
+        opening = _opening_centres(room, w)
         if corner is not None:
             cand, cyaw = corner
         elif q >= 0:
             cand, cyaw = _child_candidates(room, rngs, tries, w, np.full(nb, q), r, pos, yaw,
                                            half, self.radius, spread)
         elif "wall" in places:
-            near = None if opening is None else _near_opening(rngs, tries, opening.centre,
-                                                              w.reach)
+            near = None if opening is None else _near_opening(rngs, tries, opening, w.reach)
             cand, cyaw = _wall_candidates(room, rngs, tries, half[r], near, sides)
             if self.either[r] and near is None:
                 # half the draws anywhere along a wall: the children that may stand on
@@ -1147,7 +1160,7 @@ class _Placer:
                 cand[:, :loose], cyaw[:, :loose] = _wall_candidates(room, rngs, loose,
                                                                     half[r], None)
         elif opening is not None:
-            cand = _near_opening(rngs, tries, opening.centre, w.reach)
+            cand = _near_opening(rngs, tries, opening, w.reach)
         elif "middle" in places:
             if w.reach > 0:  # evenly over the share of the room's extent its rules allow
                 ext = w.reach * (room.bounds[2:] - room.bounds[:2])

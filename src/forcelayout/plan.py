@@ -565,11 +565,13 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
         elif r.target is not None and r.target == r.object:
             yield Problem(f"{path}.target", "an object cannot be related to itself")
         try:
-            rule.Params.model_validate(r.params)
+            params = rule.Params.model_validate(r.params)
         except ValidationError as e:
             for err in e.errors():
                 yield Problem(f"{path}.params.{_fmt_loc(err['loc'])}",
                               f"{err['msg']}; {r.rule!r} takes {sorted(rule.Params.model_fields)}")
+        else:
+            yield from _opening_pick(room, rule, params, path)
     for name in plan.weights:
         if not registry.is_registered(name) and name not in PHYSICAL_TERMS:
             yield Problem(f"weights.{name}", f"unknown rule {name!r}."
@@ -579,6 +581,24 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
             yield Problem(f"objects[{k}].area", f"unknown area {o.area!r}; declare it in 'areas'."
                           f"{_did_you_mean(o.area, sorted(areas))}")
     yield from _surface_problems(plan)
+
+
+def _opening_pick(room: Room, rule: type, params: BaseModel, path: str) -> Iterator[Problem]:
+    """A binding that picks one door or window (``StartHint.which``) by an index the
+    room has no opening for."""
+    hint = rule.start
+    if hint is None or hint.which is None:
+        return
+    k = int(getattr(params, hint.which))
+    kind = f"{hint.place}s"
+    have = len(getattr(room, kind))
+    if k >= have:
+        has = (f"has no {kind}" if have == 0 else
+               f"has {have} {kind[:-1] if have == 1 else kind} (index "
+               f"{', '.join(map(str, range(have)))})")
+        yield Problem(f"{path}.params.{hint.which}",
+                      f"there is no {kind[:-1]} {k}: the room {has}; give the index of one "
+                      f"in room.{kind} (0 is the first), or -1 for the nearest")
 
 
 def _surface_problems(plan: Plan) -> Iterator[Problem]:

@@ -90,6 +90,13 @@ class StartHint:
         (``"distance"`` of ``near_door``); with ``place="middle"``: a fraction
         of the room's extent from the centroid, per axis (``"fraction"`` of
         ``in_middle``).
+    which : str, optional
+        With ``place="window"`` or ``"door"``: the name of the rule's
+        parameter that picks one opening of that kind by its index in the
+        plan's ``room.windows`` / ``room.doors`` (``"door"`` of
+        ``near_door``); -1 there means any, the nearest. Starts are then
+        drawn near that opening only, and a plan whose index names no
+        opening is refused.
     """
 
     place: str | None = None
@@ -97,6 +104,7 @@ class StartHint:
     parent: int | None = None
     clear_wall_above_target: bool = False
     reach: str | None = None
+    which: str | None = None
 
     PLACES: ClassVar[frozenset[str]] = frozenset(
         {"wall", "corner", "middle", "window", "door", "beside", "left", "right", "front",
@@ -115,6 +123,9 @@ class StartHint:
             raise ValueError("StartHint.reach bounds a start near an opening or the middle: "
                              "give it with place='window', 'door' or 'middle', not "
                              f"place={self.place!r}")
+        if self.which is not None and self.place not in ("window", "door"):
+            raise ValueError("StartHint.which picks one window or door: give it with "
+                             f"place='window' or 'door', not place={self.place!r}")
 
 
 @dataclass(frozen=True)
@@ -585,11 +596,12 @@ class Rule:
                             "needs target = 'required' (the object it rests on)")
         if cls.start is not None and not isinstance(cls.start, StartHint):
             raise TypeError(f"{cls.__qualname__}.start must be a StartHint or None")
-        reach = cls.start.reach if cls.start is not None else None
-        if reach is not None and reach not in cls.Params.model_fields:
-            raise TypeError(f"{cls.__qualname__}.start.reach names {reach!r}, which is not a "
-                            f"parameter of the rule (its Params: "
-                            f"{sorted(cls.Params.model_fields)})")
+        for attr in ("reach", "which"):
+            named = getattr(cls.start, attr) if cls.start is not None else None
+            if named is not None and named not in cls.Params.model_fields:
+                raise TypeError(f"{cls.__qualname__}.start.{attr} names {named!r}, which is "
+                                f"not a parameter of the rule (its Params: "
+                                f"{sorted(cls.Params.model_fields)})")
         if cls.access is not None and not isinstance(cls.access, Access):
             raise TypeError(f"{cls.__qualname__}.access must be an Access or None")
         if cls.closeness not in (None, "close", "far"):

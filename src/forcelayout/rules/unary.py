@@ -208,7 +208,8 @@ class InMiddle(Rule):
 
 
 class _NearOpening(Rule):
-    """Centre within `distance` of the nearest opening (doors or windows)."""
+    """Centre within `distance` of an opening (doors or windows): the nearest one,
+    or the one the binding picks by its index (``start.which`` names that parameter)."""
 
     relation = True
     weight = 1.5
@@ -219,20 +220,27 @@ class _NearOpening(Rule):
                                 description="Largest distance from the object's centre to the "
                                             "opening's centre, m.")
 
-    def _nearest(self, state: State, i: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    def _nearest(self, state: State, i: np.ndarray, p: ParamArrays
+                 ) -> tuple[np.ndarray, np.ndarray] | None:
+        """The centre of each binding's opening and the distance to it, or None (no
+        openings of the kind)."""
         o = getattr(state.room, self._openings)
         if len(o) == 0:
             return None
         d = state.pos[i, None, :] - o.centre[None, :, :]
         dist2 = (d * d).sum(2)
         k = np.argmin(dist2, axis=1)
+        if self.start is not None and self.start.which is not None:
+            pick = getattr(p, self.start.which).astype(int)
+            # an index past the room's openings is refused with the plan; guarded all the same
+            k = np.where((pick >= 0) & (pick < len(o)), pick, k)
         return o.centre[k], np.sqrt(dist2[np.arange(len(i)), k])
 
     batched = True  # relates rows through i, j and per-sample pairs only
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
         b = len(i)
-        near = self._nearest(state, i)
+        near = self._nearest(state, i, p)
         if near is None:
             return np.zeros((b, 2)), np.zeros(b)
         centre, dist = near
@@ -241,14 +249,15 @@ class _NearOpening(Rule):
         return u * (p.weight * ramp(dist - target))[:, None], np.zeros(b)
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
-        near = self._nearest(state, i)
+        near = self._nearest(state, i, p)
         if near is None:
             return np.zeros(len(i), dtype=bool)
         return near[1] <= p.distance
 
 
 class NearWindow(_NearOpening):
-    """Near a window: centre within `distance` metres of the nearest window's centre.
+    """Near a window: centre within `distance` metres of the nearest window's centre,
+    or of the window `window` (its index in ``room.windows``) when given.
 
     Never satisfied in a room without windows (and then applies no force).
     """
@@ -257,12 +266,19 @@ class NearWindow(_NearOpening):
     feature = "window"
     specialises = ("near", "next_to", "facing")
 
+    class Params(_NearOpening.Params):
+        window: int = Field(-1, ge=-1, description=(
+            "Index in room.windows of the window meant (0 is the first); -1: any, the "
+            "nearest."))
+
     _openings = "windows"
-    start = StartHint(place="window", reach="distance")
+    start = StartHint(place="window", reach="distance", which="window")
 
 
 class NearDoor(_NearOpening):
-    """Near a door: centre within `distance` metres of the nearest door's centre.
+    """Near a door: centre within `distance` metres of the nearest door's centre, or
+    of the door `door` (its index in ``room.doors``) when given: the front door of a
+    hall with two.
 
     Never satisfied in a room without doors (and then applies no force). The
     always-on door clearance still keeps the door's swing square free.
@@ -273,8 +289,12 @@ class NearDoor(_NearOpening):
     feature = "door"
     specialises = ("near", "next_to")
 
+    class Params(_NearOpening.Params):
+        door: int = Field(-1, ge=-1, description=(
+            "Index in room.doors of the door meant (0 is the first); -1: any, the nearest."))
+
     _openings = "doors"
-    start = StartHint(place="door", reach="distance")
+    start = StartHint(place="door", reach="distance", which="door")
 
 
 class AwayFromDoor(Rule):

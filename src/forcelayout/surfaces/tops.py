@@ -94,12 +94,12 @@ def _top_plane(cp: CompiledPlan, parent: str, kids: list[str], poses: dict[str, 
     for r in range(len(kids)):
         best, best_gap = None, -np.inf
         back = kids[r] in at_back and size[r, 0] <= pw + 1e-9 and size[r, 1] <= pd + 1e-9
-        for _ in range(12):
-            y = 0.0 if back else float(rng.integers(4)) * np.pi / 2
-            w, d = (size[r, 0], size[r, 1]) if int(round(y / (np.pi / 2))) % 2 == 0 \
-                else (size[r, 1], size[r, 0])
-            if w > pw + 1e-9 or d > pd + 1e-9:
-                continue
+        # turned as the parent is (a TV, a monitor, a microwave faces the front of what
+        # it stands on), a quarter turn only for one that fits on it no other way
+        y = 0.0 if back or (size[r, 0] <= pw + 1e-9 and size[r, 1] <= pd + 1e-9) \
+            else np.pi / 2
+        w, d = (size[r, 0], size[r, 1]) if y == 0.0 else (size[r, 1], size[r, 0])
+        for _ in range(12 if w <= pw + 1e-9 and d <= pd + 1e-9 else 0):
             # clear of the edges by the walls' reach where the top allows (else centred):
             # where the plane's simulation would push it
             slack = np.array([pw - w, pd - d]) / 2

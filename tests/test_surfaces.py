@@ -398,3 +398,23 @@ def test_a_wall_object_goes_where_its_rules_with_floor_objects_hold():
         report = {r.label: r.satisfied for r in fl.Layout(plan, out.poses).rule_report()}
         met.append([report["near(towel_rack, bathtub)"], report["facing(bed, tv)"]])
     assert np.all(met)  # 4 walls: a random wall would miss most of them
+
+
+def test_two_pendants_over_one_island_share_it_along_its_length():
+    plan = fl.Plan.from_dict({
+        "name": "kitchen", "room": {"polygon": [[0, 0], [5, 0], [5, 4], [0, 4]]},
+        "objects": [{"id": "island", "category": "kitchen_island", "size": [1.8, 0.95, 0.92]},
+                    {"id": "pendant_1", "category": "pendant_light", "size": [0.3, 0.3, 0.4]},
+                    {"id": "pendant_2", "category": "pendant_light", "size": [0.3, 0.3, 0.4]}],
+        "rules": [{"rule": "in_middle", "object": "island"},
+                  {"rule": "on_ceiling", "object": "pendant_1", "target": "island"},
+                  {"rule": "on_ceiling", "object": "pendant_2", "target": "island"}]})
+    for seed in range(4):
+        lay = fl.solve(plan, seed)
+        assert lay.report.valid and lay.rule_satisfaction == 1.0, lay.report.failures
+        isl = lay.poses["island"]
+        axis = np.array([np.cos(isl.yaw), np.sin(isl.yaw)])  # the island's long (width) axis
+        along = sorted(float(np.dot([lay.poses[p].x - isl.x, lay.poses[p].y - isl.y], axis))
+                       for p in ("pendant_1", "pendant_2"))
+        assert along[0] == pytest.approx(-0.45, abs=0.05)  # over each half of its 1.8 m
+        assert along[1] == pytest.approx(0.45, abs=0.05)

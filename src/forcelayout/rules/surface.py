@@ -219,9 +219,12 @@ class OnCeiling(_SurfaceRule):
     Satisfied when the surface is ``"ceiling"``, the top touches the ceiling
     (``z`` = room height − object height), the footprint lies inside the
     room and, if ``centred``, the centre lies within ``tolerance`` metres of
-    the room's centroid (or of the target's centre). A target may also name
-    a functional area; the light is then centred over that area's objects
-    (such bindings are placed but not judged).
+    the room's centroid; with a target object, within ``tolerance`` of the
+    target's long centre line and over the target along it (within its half
+    length, or ``tolerance`` if more): two pendants over one island each
+    hang over one half of it. A target may also name a functional area; the
+    light is then centred over that area's objects (such bindings are placed
+    but not judged).
     """
 
     aliases = ("ceiling",)
@@ -241,8 +244,13 @@ class OnCeiling(_SurfaceRule):
             ok &= np.array([state.surfaces[r] == "ceiling" for r in i.tolist()], dtype=bool)
         if state.z is not None:
             ok &= np.abs(state.z[i] + state.size[i, 2] - room.height) <= _Z_TOL
-        centre = room.centroid[None, :] if j is None else state.pos[j]
-        dist = np.linalg.norm(state.pos[i] - centre, axis=1)
-        centred = np.asarray(p.centred, dtype=bool)
-        ok &= ~centred | (dist <= np.asarray(p.tolerance, dtype=float))
-        return ok
+        tol = np.asarray(p.tolerance, dtype=float)
+        if j is None:
+            near = np.linalg.norm(state.pos[i] - room.centroid[None, :], axis=1) <= tol
+        else:  # along the target's long axis over it, across within the tolerance
+            d = state.pos[i] - state.pos[j]
+            x, y = np.abs((d * state.right[j]).sum(1)), np.abs((d * state.front[j]).sum(1))
+            hw, hd = state.half[j, 0], state.half[j, 1]
+            along, across = np.where(hw >= hd, x, y), np.where(hw >= hd, y, x)
+            near = (across <= tol) & (along <= np.maximum(tol, np.maximum(hw, hd)))
+        return ok & (~np.asarray(p.centred, dtype=bool) | near)

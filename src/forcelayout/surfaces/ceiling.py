@@ -2,7 +2,9 @@
 
 Each ceiling object is pulled to the room's centroid, its target object's
 centre or a functional area's centre (a ``centred`` param, default true),
-else starts at a random point under the ceiling.
+else starts at a random point under the ceiling. Several objects over one
+target object share it out: evenly along its long axis (two pendants over
+an island, each over one half).
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ def place_on_ceiling(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Ge
     H = plan.room.height
     areas = {a.name for a in plan.areas}
     ids, anchor, stiff = [], [], []
+    over: dict[str, list[int]] = {}  # target object -> the rows centred over it
     for b in specs:
         centred = bool(getattr(b.params, "centred", True))
         centre = room.centroid
@@ -57,11 +60,22 @@ def place_on_ceiling(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Ge
                 centre = rng.uniform(lo, hi)
                 if room.contains(centre):
                     break
+        elif b.target is not None and b.target not in areas:
+            over.setdefault(b.target, []).append(len(ids))
         ids.append(b.object)
         anchor.append(centre)
         stiff.append([1.0, 1.0] if centred else [0.0, 0.0])
     if not ids:
         return
+    for target, rows in over.items():
+        if len(rows) > 1:  # evenly along its long axis, in plan order
+            t = poses[target]
+            w, d = cp.size([target])[0, :2]
+            axis = np.array([np.cos(t.yaw), np.sin(t.yaw)]) if w >= d else \
+                np.array([-np.sin(t.yaw), np.cos(t.yaw)])
+            share = max(w, d) / len(rows)
+            for k, r in enumerate(rows):
+                anchor[r] = anchor[r] + axis * (share * (k + 0.5) - max(w, d) / 2)
     size = cp.size(ids)
     pos = np.array(anchor, dtype=float).reshape(-1, 2)
     if len(ids) > 1:  # apart, so objects on one anchor push each other a definite way

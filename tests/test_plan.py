@@ -85,6 +85,16 @@ def test_unknown_object_suggests_close_match():
     assert "unknown object 'bedd'" in p.message and "'bed'" in p.message
 
 
+def test_an_alias_of_a_rule_names_the_rule_it_means():
+    (p,) = problems(plan_with(rules__0__rule="beside"))
+    assert "'beside' means 'next_to' here: write 'next_to'" in p.message
+
+
+def test_an_unknown_object_with_no_close_match_lists_the_objects():
+    (p,) = problems(plan_with(rules__1__target="cot"))
+    assert "unknown object 'cot'. The plan's objects are 'bed'" in p.message
+
+
 def test_all_problems_reported_at_once():
     data = plan_with(rules__0__rule="nope", rules__1__object="ghost")
     data["room"]["doors"][0]["wall"] = 9

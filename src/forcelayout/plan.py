@@ -423,6 +423,26 @@ def _did_you_mean(name: str, options: list[str]) -> str:
     return f" Did you mean {close[0]!r}?" if close else ""
 
 
+def _which_id(name: str, ids: list[str]) -> str:
+    """The hint for an unknown object id: the closest id, else the ids there are."""
+    close = _did_you_mean(name, ids)
+    if close or not ids:
+        return close
+    shown = ", ".join(repr(i) for i in ids[:12]) + (", ..." if len(ids) > 12 else "")
+    return f" The plan's objects are {shown}."
+
+
+def _rule_meant(name: str) -> str:
+    """The hint for an unknown rule name: the rule it is an alias of (``beside`` is
+    ``next_to``), else the closest registered name."""
+    from forcelayout.autofix import rule_aliases  # the autofix reads plans: when needed
+
+    meant = rule_aliases().get(name.strip().lower().replace(" ", "_").replace("-", "_"))
+    if meant is not None:
+        return f" {name!r} means {meant!r} here: write {meant!r}."
+    return _did_you_mean(name, registry.available_rules())
+
+
 def _off_floor(name: str) -> bool:
     """Whether the registered rule ``name`` places its object off the floor."""
     return registry.is_registered(name) and registry.get_rule(name).surface != "floor"
@@ -546,14 +566,14 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
     for k, r in enumerate(plan.rules):
         path = f"rules[{k}] ({r.rule})"
         if not registry.is_registered(r.rule):
-            hint = _did_you_mean(r.rule, registry.available_rules())
+            hint = _rule_meant(r.rule)
             yield Problem(path, f"unknown rule {r.rule!r}.{hint} Run `forcelayout rules` for the "
                           "vocabulary or register a plugin")
             continue
         rule = registry.get_rule(r.rule)
         if r.object not in ids:
             yield Problem(f"{path}.object",
-                          f"unknown object {r.object!r}.{_did_you_mean(r.object, ids)}")
+                          f"unknown object {r.object!r}.{_which_id(r.object, ids)}")
         if rule.target == "required" and r.target is None:
             yield Problem(f"{path}.target", f"{r.rule!r} relates two objects; give a target id")
         elif rule.target == "none" and r.target is not None:
@@ -561,7 +581,7 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
                           f"{r.object!r} to the room); remove 'target'")
         elif r.target is not None and r.target not in ids and r.target not in areas:
             yield Problem(f"{path}.target",
-                          f"unknown object {r.target!r}.{_did_you_mean(r.target, ids)}")
+                          f"unknown object {r.target!r}.{_which_id(r.target, ids)}")
         elif r.target is not None and r.target == r.object:
             yield Problem(f"{path}.target", "an object cannot be related to itself")
         try:
@@ -572,6 +592,13 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
                               f"{err['msg']}; {r.rule!r} takes {sorted(rule.Params.model_fields)}")
         else:
             yield from _opening_pick(room, rule, params, path)
+        hint = rule.start
+        if hint is not None and hint.place == "beneath" and r.object in ids \
+                and not plan.object(r.object).is_walkable:
+            yield Problem(f"{path}.object", f"{r.object!r} is solid, so it cannot lie under "
+                          f"{r.target!r} (solid footprints never overlap); {r.rule!r} is for "
+                          "walkable floor covers (rugs, mats: set \"walkable\": true), or "
+                          f"place {r.object!r} beside its target (next_to, in_front_of)")
     for name in plan.weights:
         if not registry.is_registered(name) and name not in PHYSICAL_TERMS:
             yield Problem(f"weights.{name}", f"unknown rule {name!r}."

@@ -196,7 +196,8 @@ def plans(*, min_objects: int = 1, max_objects: int = 8, rules: bool = True,
     rules : bool
         Draw zero to two rules per object from the built-in unary and binary
         vocabulary (:data:`UNARY_RULES`, :data:`BINARY_RULES`), binary ones
-        with another object of the plan as target, with default parameters.
+        with another object of the plan as target, with default parameters
+        (``under`` only on walkable covers).
     fill : float
         Largest fraction of the floor the footprints may cover; objects are
         shrunk to fit (the plan validator allows up to 0.6).
@@ -231,9 +232,12 @@ def plans(*, min_objects: int = 1, max_objects: int = 8, rules: bool = True,
         specs: list[dict[str, Any]] = []
         if rules:
             vocab = UNARY_RULES + (BINARY_RULES if n > 1 else ())
-            for oid in ids:
+            # a rule that lays its object beneath its target takes a walkable cover only
+            solid = tuple(r for r in vocab if (h := registry.get_rule(r).start) is None
+                          or h.place != "beneath")
+            for oid, o in zip(ids, objs, strict=True):
                 for _ in range(draw(st.integers(0, 2))):
-                    name = draw(st.sampled_from(vocab))
+                    name = draw(st.sampled_from(vocab if o.is_walkable else solid))
                     spec: dict[str, Any] = {"rule": name, "object": oid}
                     if name in BINARY_RULES:
                         spec["target"] = draw(st.sampled_from([t for t in ids if t != oid]))

@@ -55,6 +55,27 @@ def test_five_in_corner_objects_in_four_corners_are_infeasible():
                in n and "keep at most 4 in_corner rules" in n for n in f.notes)
 
 
+def test_near_and_far_from_with_a_band_between_are_no_contradiction():
+    """Two armchairs facing each other across a side table: at least 0.8 m apart and at
+    most 1.2 m. The same pair with far_from 1.5 m has no gap that meets both."""
+    def two_chairs(far: float) -> dict:
+        return {"name": "reading", "room": {"polygon": [[0, 0], [4, 0], [4, 4], [0, 4]]},
+                "objects": [obj("a1", "armchair", (0.8, 0.8, 0.9)),
+                            obj("a2", "armchair", (0.8, 0.8, 0.9))],
+                "rules": [{"rule": "near", "object": "a1", "target": "a2",
+                           "params": {"distance": 1.2}},
+                          {"rule": "far_from", "object": "a1", "target": "a2",
+                           "params": {"distance": far}}]}
+    band = plan_findings(Plan.from_dict(two_chairs(0.8)))
+    assert not any("both far_from" in str(f) for f in band)
+    fixed, notes = autofix(two_chairs(0.8))
+    assert [r["rule"] for r in fixed["rules"]] == ["near", "far_from"] and not notes
+    assert any("both far_from and near" in str(f)
+               for f in plan_findings(Plan.from_dict(two_chairs(1.5))))
+    fixed, _ = autofix(two_chairs(1.5))
+    assert [r["rule"] for r in fixed["rules"]] == ["near"]
+
+
 def test_contradictions_duplicates_and_many_targets():
     p = plan([obj("bed", size=(1.0, 2.0, 0.5)), obj("nightstand"), obj("lamp", "lamp"),
               obj("desk", size=(1.2, 0.6, 0.75)), obj("chair", size=(0.5, 0.5, 0.9))],

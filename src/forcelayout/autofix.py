@@ -82,6 +82,7 @@ from forcelayout.sanity import (
     article,
     category_key,
     convex_corners,
+    gap_band,
     names_the_room,
     out_of_reach,
     room_kind,
@@ -648,15 +649,18 @@ def autofix(data: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
                 key = repr((x.get("rule"), x.get("params"))) if isinstance(x, dict) else repr(x)
                 unique.setdefault(key, x)
             area["rules"] = list(unique.values())
-    # far and close to the same target -> drop the far rule
-    close_pairs = {frozenset((r.get("object"), r.get("target"))) for r in new_rules
-                   if (rule := _rule_of(r)) is not None and rule.closeness == "close"
-                   and r.get("target")}
+    # far and close to the same target, with no band of gaps between -> drop the far rule
+    close_pairs: dict[frozenset, tuple[Rule, Any]] = {}
+    for r in new_rules:
+        if (rule := _rule_of(r)) is not None and rule.closeness == "close" and r.get("target"):
+            close_pairs.setdefault(frozenset((r.get("object"), r.get("target"))),
+                                   (rule, r.get("params")))
     final = []
     for r in new_rules:
         rule = _rule_of(r)
-        if rule is not None and rule.closeness == "far" and \
-                frozenset((r.get("object"), r.get("target"))) in close_pairs:
+        pair = frozenset((r.get("object"), r.get("target")))
+        if rule is not None and rule.closeness == "far" and pair in close_pairs and \
+                gap_band(*close_pairs[pair], rule, r.get("params")) is None:
             notes.append(f"rules ({r.get('object')}): removed {r['rule']} {r.get('target')!r}, "
                          "which contradicts a rule that keeps them close")
             continue

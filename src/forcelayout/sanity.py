@@ -33,7 +33,7 @@ import re
 from collections import defaultdict
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 import shapely
@@ -46,7 +46,7 @@ from forcelayout.plan import Plan, RuleSpec
 from forcelayout.rules import Rule
 from forcelayout.rules.base import ParamArrays, State
 
-__all__ = ["Finding", "plan_findings", "OutOfReach", "out_of_reach", "SPOT_STEP",
+__all__ = ["Finding", "plan_findings", "OutOfReach", "out_of_reach", "gap_band", "SPOT_STEP",
            "CATEGORY_SIZES", "ROOM_AREAS", "ROOM_FURNITURE", "OPENING_WORDS",
            "names_the_room", "category_key", "convex_corners", "room_kind",
            "usual_size", "Severity", "MAX_TARGETS"]
@@ -357,6 +357,26 @@ def _rule(name: str) -> Rule | None:
         return None
 
 
+def gap_band(close: Rule, close_params: Any, far: Rule, far_params: Any
+             ) -> tuple[float, float] | None:
+    """The footprint gaps a close rule and a far rule on one pair both allow, or None.
+
+    Rules that bound the gap of two footprints do so with a ``distance``
+    parameter: at most it for a close rule (``near``, ``next_to``,
+    ``in_front_of``), at least it for a far one (``far_from``). Two such rules
+    on one pair keep it in the band between (``far_from`` 0.8 m and ``near``
+    1.2 m: two armchairs facing each other across a side table), which is
+    no contradiction. ``None`` where either rule has no ``distance`` or the
+    band is empty.
+    """
+    try:
+        lo = float(far.Params.model_validate(far_params or {}).distance)  # type: ignore[attr-defined]
+        hi = float(close.Params.model_validate(close_params or {}).distance)  # type: ignore[attr-defined]
+    except (AttributeError, TypeError, ValueError):  # no distance, or params it refuses
+        return None
+    return (lo, hi) if lo < hi else None
+
+
 def _is_corner(name: str) -> bool:
     """Whether the rule tucks its object into a corner (limited by the floor's corners)."""
     rule = _rule(name)
@@ -430,6 +450,9 @@ def _rule_findings(plan: Plan) -> Iterable[Finding]:
         if far and close:
             name = far[0]
             k, j = rules[name], rules[close[0]]
+            if gap_band(_rule(close[0]), plan.rules[j].params, _rule(name),  # type: ignore[arg-type]
+                        plan.rules[k].params) is not None:
+                continue  # a band of gaps between the two: no contradiction
             a, b = sorted(pair)
             yield Finding(f"rules[{k}] ({name})", f"{a!r} and {b!r} are both {name} and "
                           f"{close[0]} (rules[{j}])", f"keep one of rules[{min(j, k)}] and "

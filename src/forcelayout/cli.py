@@ -86,8 +86,9 @@ def _cmd_validate(args: argparse.Namespace) -> int:
               + ("; but no layout can meet it" if not feas.ok
                  else "; tight (see the warnings)"
                  if feas.verdict == "tight" else ""))
-        for note in feas.notes:
-            print(f"{'warning' if feas.ok else 'infeasible'}: {note}", file=sys.stderr)
+        for k, note in enumerate(feas.notes):
+            print(f"{'infeasible' if k < feas.blocking else 'warning'}: {note}",
+                  file=sys.stderr)
         return 0 if feas.ok else 1
     bad = passed = skipped = 0
     for path in args.layouts:

@@ -490,7 +490,8 @@ def build_dataset(
         feas = plan_feasibility(plan, opts)
         if not feas.ok:
             warnings.warn(FeasibilityWarning(
-                f"plan {plan.name!r} looks infeasible before sampling: {'; '.join(feas.notes)}; "
+                f"plan {plan.name!r} looks infeasible before sampling: "
+                f"{'; '.join(feas.infeasible_notes)}; "
                 "sampling anyway", feas), stacklevel=2)
     budget = max(4 * n, n + 20) if max_attempts is None else int(max_attempts)
     if budget < 0:

@@ -146,6 +146,9 @@ class Feasibility:
         Wall length without the doors and the windows, m.
     agent_radius : float
         Agent radius the estimates use, m.
+    blocking : int
+        How many of the first ``notes`` say why no layout can meet the plan
+        (:attr:`infeasible_notes`); the others are warnings.
     findings : list of Finding
         What :func:`forcelayout.sanity.plan_findings` finds: impossible rule
         sets (more ``in_corner`` objects than corners, contradictory
@@ -175,11 +178,18 @@ class Feasibility:
     tall_available: float = 0.0
     agent_radius: float = 0.2
     findings: list[Finding] = field(default_factory=list)
+    blocking: int = 0
 
     @property
     def ok(self) -> bool:
         """Whether the verdict is not ``"infeasible"``."""
         return self.verdict != "infeasible"
+
+    @property
+    def infeasible_notes(self) -> list[str]:
+        """The notes that make the verdict ``"infeasible"`` (the first ``blocking``
+        notes); the rest are warnings."""
+        return self.notes[:self.blocking]
 
     def __str__(self) -> str:
         lines = [
@@ -363,6 +373,7 @@ def feasibility(
     verdict: Verdict = "infeasible" if bad else "tight" if tight else "ok"
     return Feasibility(
         plan=plan.name, verdict=verdict, notes=bad + tight + odd, findings=findings,
+        blocking=len(bad),
         floor_area=area,
         footprint_area=footprint, fill=fill, free_fraction=free, free_fraction_best=free_best,
         min_free_fraction=min_free_fraction, room_span=span,

@@ -136,8 +136,9 @@ def run_generate(args: argparse.Namespace) -> int:
     summary["rejected"] = [{"seed": r.seed, "failures": r.failures} for r in result.rejected]
     (out / "summary.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")
     print(f"{plan.name}: {summary['accepted']}/{args.n} layouts from {summary['attempted']} "
-          f"samples in {seconds:.1f} s (of all samples: {summary['valid_fraction']:.0%} valid, "
-          f"{summary['mean_rule_satisfaction']:.0%} of rules met) -> {out}")
+          f"samples in {seconds:.1f} s (of all samples: {summary['valid_fraction']:.0%} "
+          f"passed the checks and rules, {summary['mean_rule_satisfaction']:.0%} of rules "
+          f"met) -> {out}")
     short = sum(lay.report.rule_satisfaction < 1.0 for lay in result.layouts)
     if short:
         print(f"{short} of the {summary['accepted']} layouts leave a rule unmet, as "

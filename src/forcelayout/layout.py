@@ -86,7 +86,9 @@ class SampleReport:
     seconds : float
         Wall time of the sample.
     valid : bool
-        Whether the layout passed the deterministic checks.
+        Whether the sample passed: every object placed, the deterministic
+        checks passed and at least ``min_rule_satisfaction`` of its rules met
+        (what ``generate`` accepts).
     failures : list of str
         Why the sample was rejected (empty when valid).
     missing : list of str
@@ -249,7 +251,8 @@ class Layout:
                              "of poses (as written by Layout.save)")
         if plan is None:
             if "plan_spec" not in data:
-                raise ValueError("layout JSON has no embedded plan; pass plan=...")
+                raise ValueError("layout JSON has no embedded plan and no plan.json beside "
+                                 "it; pass plan=... (forcelayout.load_plan(path))")
             plan = Plan.from_dict(data["plan_spec"])
         unknown = set(data.get("objects", {})) - set(plan.ids)
         if unknown:
@@ -274,8 +277,19 @@ class Layout:
 
     @classmethod
     def load(cls, path: str | Path, plan: Plan | None = None) -> Layout:
-        """Read a layout JSON file."""
-        return cls.from_json(Path(path).read_text(encoding="utf-8"), plan)
+        """Read a layout JSON file.
+
+        Its plan is ``plan`` if given, else the one embedded in the file
+        (``save(include_plan=True)``), else the ``plan.json`` beside it (as
+        ``forcelayout generate`` and datasets write it).
+        """
+        path = Path(path)
+        data = json.loads(path.read_text(encoding="utf-8"))
+        beside = path.parent / "plan.json"
+        if plan is None and isinstance(data, dict) and "plan_spec" not in data \
+                and beside.is_file():
+            plan = Plan.from_json(beside.read_text(encoding="utf-8"))
+        return cls.from_dict(data, plan)
 
     # -- pictures ---------------------------------------------------------------
     def picture(self, path: str | Path | None = None, **kwargs: Any) -> Any:

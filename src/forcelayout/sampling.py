@@ -289,7 +289,8 @@ class Generation:
             return f"{head}: none was asked for (n=0)"
         text = f"{head} in {self.attempted} samples: {self._cause()}"
         if self.feasibility is not None and not self.feasibility.ok:
-            text += f" (before sampling the plan looked infeasible: {self.feasibility.notes[0]})"
+            text += (" (before sampling the plan looked infeasible: "
+                     f"{self.feasibility.infeasible_notes[0]})")
         return text
 
     def _cause(self) -> str:
@@ -707,7 +708,8 @@ def generate(
     feas = plan_feasibility(plan, opts)
     if not feas.ok:
         warnings.warn(FeasibilityWarning(
-            f"plan {plan.name!r} looks infeasible before sampling: {'; '.join(feas.notes)}; "
+            f"plan {plan.name!r} looks infeasible before sampling: "
+            f"{'; '.join(feas.infeasible_notes)}; "
             "sampling anyway", feas), stacklevel=2)
     t0 = time.perf_counter()
     accepted: list[Layout] = []

@@ -146,3 +146,41 @@ def test_a_repair_moves_the_parent_when_the_child_alone_cannot_be_fixed():
             fixed += 1
             assert any("tv_stand" in n for n in notes)  # the TV moved too
     assert fixed >= 2
+
+
+def test_too_little_free_floor_is_repaired_by_moving_lone_objects_and_slivers():
+    """A chest alone in the middle and a desk 0.2 m off its wall and 0.3 m from the bed
+    (slivers no agent fits through) leave 27 % of the floor free (30 % needed): they are
+    at fault, and a repair keeps any round that frees floor."""
+    from forcelayout.options import SolverConfig
+    from forcelayout.repair import repair_floor
+    from forcelayout.verdict import judge_floor
+
+    plan = fl.Plan.model_validate({
+        "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]],
+                 "doors": [{"wall": 0, "offset": 0.5, "width": 0.8}]},
+        "objects": [{"id": "bed", "category": "bed", "size": [1.4, 2.0, 0.5]},
+                    {"id": "wardrobe", "category": "wardrobe", "size": [1.0, 0.6, 2.0]},
+                    {"id": "chest", "category": "chest", "size": [0.7, 0.7, 0.5]},
+                    {"id": "desk", "category": "desk", "size": [1.0, 0.5, 0.75]}],
+        "rules": [{"rule": "at_wall", "object": "bed"},
+                  {"rule": "at_wall", "object": "wardrobe"}]})
+    model = ForceModel(plan)
+    at = {"bed": ((2.3, 1.0), 0.0), "wardrobe": ((0.5, 2.7), np.pi),
+          "chest": ((1.0, 1.5), 0.0), "desk": ((2.25, 2.55), np.pi)}
+    pos = np.array([at[i][0] for i in model.ids])
+    yaw = np.array([at[i][1] for i in model.ids])
+    before = judge_floor(model, pos, yaw)
+    assert [f.split(":")[0] for f in before.failures] == ["navigable"]
+    assert {model.ids[r] for r in before.at_fault} >= {"chest", "desk", "bed"}
+    assert "wardrobe" not in {model.ids[r] for r in before.at_fault}  # flush with its wall
+    freed = fixed = 0
+    for seed in range(4):
+        p, y, _, notes = repair_floor(model, pos, yaw, SolverConfig(), rounds=6,
+                                      rng=np.random.default_rng(seed))
+        after = judge_floor(model, p, y)
+        assert after.free >= before.free and len(after.failures) <= 1
+        freed += after.free > before.free + 0.005
+        fixed += after.ok
+        assert all("failures" in n for n in notes)
+    assert freed >= 2 and fixed >= 1

@@ -128,13 +128,15 @@ def repair_task(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: Sol
         res = yield SimRequest(walking, start_pos, start_yaw, cfg, fixed=~movers)
         spent += res.steps
         after = yield JudgeRequest(model, res.pos, res.yaw, check_kwargs)
-        if len(after.failures) >= len(verdict.failures):
+        if not after.better_than(verdict):
             idle += 1
             continue
         idle = 0
         moved = ", ".join(model.ids[r] for r in np.flatnonzero(movers))
+        more = (f" ({verdict.free:.0%} -> {after.free:.0%} of the floor free)"
+                if len(after.failures) == len(verdict.failures) else "")
         notes.append(f"{how} {moved}: {len(verdict.failures)} -> {len(after.failures)} "
-                     "failures")
+                     f"failures{more}")
         pos, yaw, verdict = res.pos, res.yaw, after
     return pos, yaw, spent, notes
 

@@ -35,11 +35,28 @@ class FloorVerdict:
     missed : set of int
         Positions of the unmet bindings in the model's ``bindings``; each is
         one of ``failures`` (the rest are failed checks).
+    free : float
+        Share of the floor free for the agent, as the ``navigable`` check
+        judges it (1 where the checks did not run).
     """
 
     failures: list[str] = field(default_factory=list)
     at_fault: set[int] = field(default_factory=set)
     missed: set[int] = field(default_factory=set)
+    free: float = 1.0
+
+    def better_than(self, other: FloorVerdict) -> bool:
+        """Whether this arrangement fails less than ``other``: fewer failures, or as many
+        with clearly more free floor where too little is free and the other failures
+        the same (a step towards the ``navigable`` check that does not yet pass it)."""
+        if len(self.failures) != len(other.failures):
+            return len(self.failures) < len(other.failures)
+
+        def rest(v: FloorVerdict) -> list[str]:
+            return sorted(f for f in v.failures if not f.startswith("navigable:"))
+
+        short = any(f.startswith("navigable:") for f in other.failures)
+        return short and rest(self) == rest(other) and self.free > other.free + 0.005
 
     @property
     def unmet(self) -> int:
@@ -125,6 +142,12 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
                     v.at_fault.update(row[n] for n in _QUOTED.findall(fail) if n in row)
             for blockers in report.blocked_by.values():
                 v.at_fault.update(row[n] for n in blockers if n in row)
+        radius = float((check_kwargs or {}).get("agent_radius", 0.2))
+        band = bool((check_kwargs or {}).get("wall_band", False))
+        for b, (v, report) in enumerate(zip(out, reports, strict=True)):
+            v.free = report.navigable_fraction if band else report.free_fraction
+            if any(f.startswith("navigable:") for f in report.failures):
+                v.at_fault.update(_slivers(model, pos[b], yaw[b], radius))
     if nb == 1:
         met = {k: np.array([ok]) for k, ok in
                model.satisfied(model.state(pos[0], yaw[0])).items()}
@@ -141,6 +164,32 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
             v.missed.add(k)
             v.at_fault.add(row[b.object])
     return out
+
+
+def _slivers(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, radius: float
+             ) -> list[int]:
+    """Rows of the solid floor objects that leave a sliver of floor too narrow for the
+    agent (a gap of 3 cm up to its width) to a wall or to another solid object, or that
+    touch nothing (free floor lost all round): too little free floor is mended by
+    closing such gaps, widening them into walkways, or moving a lone object."""
+    st = model.state(pos, yaw)
+    solid = ~np.asarray(model.walkable, dtype=bool)
+    if solid.sum() == 0:
+        return []
+    room = st.room
+    corners = st.corners  # (N, 4, 2)
+    s = np.einsum("nkd,wd->nkw", corners, room.normal) - room.normal_offset  # (N, 4, W)
+    t = st.pos @ room.tangent.T - room.tangent_offset  # (N, W): along each wall
+    facing = (t > 0.0) & (t < room.length)  # the wall lies beside the object
+    wall_gap = np.where(facing, s.min(axis=1), np.inf)  # (N, W)
+    sep = st.separations.copy()
+    np.fill_diagonal(sep, np.inf)
+    sep[:, ~solid] = np.inf
+    lo, hi = 0.03, 2.0 * radius
+    narrow = ((wall_gap > lo) & (wall_gap < hi)).any(axis=1) | \
+        ((sep > lo) & (sep < hi)).any(axis=1)
+    alone = (wall_gap > lo).all(axis=1) & (sep > lo).all(axis=1)  # touching nothing
+    return np.flatnonzero((narrow | alone) & solid).tolist()
 
 
 @dataclass

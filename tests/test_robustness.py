@@ -184,3 +184,22 @@ def test_too_little_free_floor_is_repaired_by_moving_lone_objects_and_slivers():
         fixed += after.ok
         assert all("failures" in n for n in notes)
     assert freed >= 2 and fixed >= 1
+
+
+def test_an_object_wanted_by_a_door_may_stand_beside_its_swing_square():
+    """A fridge near_door on the wall across the door's corner, clear of the swing square
+    but 5 cm into the deeper entry zone, is not pushed away (its rule and the checks agree
+    it stands well); without the rule the entry zone pushes it along its wall."""
+    def plan(near: bool) -> fl.Plan:
+        return fl.Plan.from_dict({
+            "name": "gym", "room": {"polygon": [[0, 0], [4.5, 0], [4.5, 3.8], [0, 3.8]],
+                                    "doors": [{"wall": 3, "offset": 0.9, "width": 0.9}]},
+            "objects": [{"id": "fridge", "category": "mini_fridge", "size": [0.5, 0.5, 0.85]}],
+            "rules": [{"rule": "at_wall", "object": "fridge"}]
+            + ([{"rule": "near_door", "object": "fridge"}] if near else [])})
+    for near, pushed in ((True, False), (False, True)):
+        model = ForceModel(plan(near))
+        physical = [t for t in model.terms if type(t).__name__ == "PhysicalTerm"][0]
+        state = make_state([[1.3, 3.55]], [np.pi], [[0.5, 0.5, 0.85]], room=model.room)
+        f = physical(state, 1.0)[0]
+        assert bool(abs(f[0, 0]) > 0.1) is pushed, f

@@ -175,17 +175,22 @@ class PhysicalTerm:
 
     def __init__(self, pi: np.ndarray, pj: np.ndarray, weights: PhysicalWeights,
                  solid: np.ndarray | None = None, slide: np.ndarray | None = None,
-                 entry: bool = True):
+                 entry: bool | np.ndarray = True):
         self.pi, self.pj, self.weights = pi, pj, weights
         self.solid = None if solid is None or solid.all() else solid.astype(float)
         self.slide = None if slide is None or not slide.any() else slide
-        self.entry = entry
+        #: Whether doors keep their entry zones clear (else their swing squares): for
+        #: every row, or per row (N,) (an object a rule wants by a door keeps out of the
+        #: swing square alone, as the checks ask)
+        self.entry: bool | np.ndarray = bool(entry.all()) if isinstance(
+            entry, np.ndarray) and (entry.all() or not entry.any()) else entry
 
     def stack(self, samples: int, rows: int) -> PhysicalTerm:
         """The same terms in each of ``samples`` stacked samples of ``rows`` rows."""
         out = PhysicalTerm(stacked_rows(self.pi, samples, rows),
                            stacked_rows(self.pj, samples, rows), self.weights,
-                           entry=self.entry)
+                           entry=self.entry if isinstance(self.entry, bool)
+                           else np.tile(self.entry, samples))
         out.solid = None if self.solid is None else np.tile(self.solid, samples)
         out.slide = None if self.slide is None else np.tile(self.slide, samples)
         return out
@@ -330,7 +335,7 @@ class ForceModel:
             self.rules,
             PassageTerm(self.pi[free], self.pj[free], self.physical_weights),
             PhysicalTerm(self.pi[free], self.pj[free], self.physical_weights, ~self.walkable,
-                         self.held),
+                         self.held, entry=~self._by_a_door()),
         ]
         if self.room is self.compiled.room and self.plan.room.windows and w_window > 0:
             self.terms.append(self._window_term(w_window))
@@ -342,6 +347,16 @@ class ForceModel:
         for t in terms:
             self.add_term(t)
         self._stacks: dict[tuple[int, ...], StackedForces] = {}
+
+    def _by_a_door(self) -> np.ndarray:
+        """Rows a binding wants by a door (its rule's start place is ``"door"``, as
+        ``near_door``'s): the door's entry zone does not push them off their spot beside
+        its swing square."""
+        out = np.zeros(len(self.ids), dtype=bool)
+        for g in self.groups:
+            if g.rule.start is not None and g.rule.start.place == "door":
+                out[g.i] = True
+        return out
 
     def _window_term(self, strength: float) -> WindowTerm:
         """Floor objects taller than a window's sill kept out of its clearance zone."""

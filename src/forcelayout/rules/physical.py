@@ -172,10 +172,11 @@ SWING_MARGIN = 0.05
 
 
 def door_clearance(state: State, w: PhysicalWeights, slide: np.ndarray | None = None,
-                   entry: bool = True) -> tuple[np.ndarray, np.ndarray]:
+                   entry: bool | np.ndarray = True) -> tuple[np.ndarray, np.ndarray]:
     """Push footprints out of each door's entry zone (:attr:`RoomGeometry.door_zones`: the swing
     square and an agent's width deeper) or, with ``entry=False``, out of the swing square
-    alone (:attr:`RoomGeometry.door_squares`, what the checks ask).
+    alone (:attr:`RoomGeometry.door_squares`, what the checks ask); ``entry`` may also
+    mark, per row (N,), the rows kept out of the entry zone.
 
     The push runs along the square's axis of least penetration: sideways
     along the wall for an object beside the door, straight into the room for
@@ -187,6 +188,10 @@ def door_clearance(state: State, w: PhysicalWeights, slide: np.ndarray | None = 
     n = state.n
     if len(room.doors) == 0 or n == 0:
         return np.zeros((n, 2)), np.zeros(n)
+    if not isinstance(entry, bool | np.bool_):  # per row: the zone, or the square alone
+        fz, tz = door_clearance(state, w, slide, True)
+        fs, ts = door_clearance(state, w, slide, False)
+        return np.where(entry[:, None], fz, fs), np.where(entry, tz, ts)
     if entry:
         margin = 0.02
         centre, dr, df, dh = room.door_zones
@@ -224,7 +229,8 @@ def door_clearance(state: State, w: PhysicalWeights, slide: np.ndarray | None = 
 
 def physical(
     state: State, pi: np.ndarray, pj: np.ndarray, w: PhysicalWeights,
-    solid: np.ndarray | None = None, slide: np.ndarray | None = None, entry: bool = True,
+    solid: np.ndarray | None = None, slide: np.ndarray | None = None,
+    entry: bool | np.ndarray = True,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Sum of all always-on terms: repulsion, boundary, alignment, door clearance.
 

@@ -428,7 +428,8 @@ def _which_id(name: str, ids: list[str]) -> str:
     close = _did_you_mean(name, ids)
     if close or not ids:
         return close
-    shown = ", ".join(repr(i) for i in ids[:12]) + (", ..." if len(ids) > 12 else "")
+    more = len(ids) - 12
+    shown = ", ".join(repr(i) for i in ids[:12]) + (f" and {more} more" if more > 0 else "")
     return f" The plan's objects are {shown}."
 
 

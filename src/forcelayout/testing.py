@@ -43,6 +43,7 @@ from forcelayout.bindings import RuleGroup
 from forcelayout.geometry import RoomGeometry
 from forcelayout.plan import Plan, Room, SceneObject
 from forcelayout.rules.base import ParamArrays, Rule, State
+from forcelayout.surfaces.walls import free_intervals
 
 __all__ = [
     "rooms",
@@ -134,13 +135,10 @@ def rooms(
 
         def opening(width: float) -> dict[str, float] | None:
             # free stretches long enough, 0.1 m from the wall's ends and from other openings
-            gaps = []
-            for k, n in enumerate(lengths):
-                edge = 0.0
-                for a, b in sorted(taken.get(k, [])) + [(n, n)]:
-                    if a - edge >= width + 0.2 + 1e-6:
-                        gaps.append((k, edge, a))
-                    edge = max(edge, b)
+            gaps = [(k, a, b) for k, n in enumerate(lengths)
+                    for a, b in free_intervals(n, [(a, b, 0.0, 1.0) for a, b in taken.get(k, [])],
+                                               0.0, 1.0, margin=0.0)
+                    if b - a >= width + 0.2 + 1e-6]
             if not gaps:
                 return None
             k, a, b = draw(st.sampled_from(gaps))

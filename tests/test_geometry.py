@@ -8,6 +8,7 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import forcelayout as fl
 from forcelayout.geometry import (
     RoomGeometry,
     box_corners,
@@ -169,3 +170,14 @@ def test_toward_nearest_points_at_the_nearest_centre():
     assert np.allclose(got, [[[-1.0, -1.0], [1.0, 1.0]], [[1.5, 0.0], [1.0, 0.0]]])
     # a point turned by yaw_facing of it faces that centre
     assert np.allclose(front_vectors(yaw_facing(got[0, 0])), got[0, 0] / np.sqrt(2.0))
+
+
+def test_openings_centres_are_every_one_or_the_one_picked():
+    room = RoomGeometry.from_room(fl.Plan.from_dict({
+        "name": "hall", "room": {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]],
+                                 "doors": [{"wall": 0, "offset": 1.0}, {"wall": 2, "offset": 2.5}]},
+        "objects": [{"id": "box", "category": "box", "size": [0.5, 0.5, 0.5]}]}).room)
+    doors = room.doors
+    assert np.allclose(doors.centres(), doors.centre)
+    assert np.allclose(doors.centres(1), doors.centre[[1]])
+    assert np.allclose(doors.centres(2), doors.centre)  # past the last: every one

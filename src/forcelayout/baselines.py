@@ -341,8 +341,7 @@ def _opening_centres(room: RoomGeometry, hint: _Hint) -> list[np.ndarray]:
     out = []
     for kind, o in (("window", room.windows), ("door", room.doors)):
         if kind in hint.places and len(o):
-            k = picks.get(kind, -1)
-            out.append(o.centre[[k]] if 0 <= k < len(o) else o.centre)
+            out.append(o.centres(picks.get(kind, -1)))
     return out
 
 

@@ -480,6 +480,11 @@ class Openings:
         """End points of the openings on their walls, shape (K, 2)."""
         return self.centre + self.tangent * self.width[:, None] * 0.5
 
+    def centres(self, pick: int = -1) -> np.ndarray:
+        """The centres of every opening (K, 2), or of opening ``pick`` alone (1, 2) where
+        ``0 <= pick < K`` (the one a rule names, ``StartHint.which``)."""
+        return self.centre[[pick]] if 0 <= pick < len(self) else self.centre
+
 
 #: RoomGeometry.from_room's cache: id of a plan's room -> (the room, its geometry).
 _ROOMS: dict[int, tuple[Room, RoomGeometry]] = {}

@@ -230,8 +230,7 @@ def _opening_centres(room, w: _Wants) -> np.ndarray | None:
     None if neither."""
     for kind, o in (("window", room.windows), ("door", room.doors)):
         if kind in w.places and len(o):
-            k = w.picks.get(kind, -1)
-            return o.centre[[k]] if 0 <= k < len(o) else o.centre
+            return o.centres(w.picks.get(kind, -1))
     return None
 
 

@@ -489,10 +489,7 @@ def build_dataset(
         prepare(plan)  # plan-level problems surface before any sample runs
         feas = plan_feasibility(plan, opts)
         if not feas.ok:
-            warnings.warn(FeasibilityWarning(
-                f"plan {plan.name!r} looks infeasible before sampling: "
-                f"{'; '.join(feas.infeasible_notes)}; "
-                "sampling anyway", feas), stacklevel=2)
+            warnings.warn(FeasibilityWarning.of(plan.name, feas), stacklevel=2)
     budget = max(4 * n, n + 20) if max_attempts is None else int(max_attempts)
     if budget < 0:
         raise DatasetError(f"max_attempts must be >= 0, got {max_attempts}")

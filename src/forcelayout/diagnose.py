@@ -67,6 +67,13 @@ class FeasibilityWarning(UserWarning):
         super().__init__(message)
         self.feasibility = feasibility
 
+    @classmethod
+    def of(cls, plan: str, feasibility: Feasibility) -> FeasibilityWarning:
+        """The warning for plan ``plan`` whose estimate is infeasible: its infeasible notes,
+        and that it is sampled anyway."""
+        return cls(f"plan {plan!r} looks infeasible before sampling: "
+                   f"{'; '.join(feasibility.infeasible_notes)}; sampling anyway", feasibility)
+
 
 class FewLayoutsWarning(UserWarning):
     """:func:`forcelayout.generate` accepted fewer layouts than asked for.

@@ -707,10 +707,7 @@ def generate(
         raise ValueError(f"max_attempts must be >= 0, got {max_attempts}")
     feas = plan_feasibility(plan, opts)
     if not feas.ok:
-        warnings.warn(FeasibilityWarning(
-            f"plan {plan.name!r} looks infeasible before sampling: "
-            f"{'; '.join(feas.infeasible_notes)}; "
-            "sampling anyway", feas), stacklevel=2)
+        warnings.warn(FeasibilityWarning.of(plan.name, feas), stacklevel=2)
     t0 = time.perf_counter()
     accepted: list[Layout] = []
     reports: list[SampleReport] = []

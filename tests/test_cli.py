@@ -340,3 +340,22 @@ def test_validate_says_a_tight_plan_is_tight(tmp_path, capsys):
     captured = capsys.readouterr()
     assert "tight (see the warnings)" in captured.out
     assert captured.err.startswith("warning: ")
+
+
+def test_validate_labels_each_note_infeasible_or_warning(tmp_path, capsys):
+    """A tight plan with a contradiction: the contradiction is what makes it infeasible;
+    the little free floor stays a warning."""
+    plan = tmp_path / "tight_and_wrong.json"
+    plan.write_text(json.dumps({
+        "name": "tight", "room": {"polygon": [[0, 0], [2.6, 0], [2.6, 2.6], [0, 2.6]],
+                                  "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}]},
+        "objects": [{"id": "bed", "category": "bed", "size": [1.4, 2.0, 0.5]},
+                    {"id": "desk", "category": "desk", "size": [0.9, 0.5, 0.75]}],
+        "rules": [{"rule": "at_wall", "object": "bed"},
+                  {"rule": "next_to", "object": "desk", "target": "bed"},
+                  {"rule": "far_from", "object": "desk", "target": "bed"}]}))
+    assert main(["validate", str(plan)]) == 1
+    lines = capsys.readouterr().err.splitlines()
+    assert lines[0].startswith("infeasible: rules[2] (far_from)")
+    assert any(line.startswith("warning: ") and "floor free" in line for line in lines[1:])
+    assert not any(line.startswith("infeasible: ") for line in lines[1:])

@@ -208,6 +208,16 @@ def test_a_start_reach_must_name_a_parameter_near_an_opening():
             start = rules.StartHint(place="door", reach="radius")
 
 
+
+def test_a_start_which_must_name_a_parameter_picking_a_window_or_door():
+    with pytest.raises(ValueError, match="which"):  # only with place window or door
+        rules.StartHint(place="wall", which="door")
+    with pytest.raises(TypeError, match="which names 'entrance'"):
+        class ByDoor(rules.Rule):
+            name = "near_door_test_which"
+            start = rules.StartHint(place="door", which="entrance")
+
+
 def test_a_start_in_the_middle_spreads_over_the_share_the_rule_allows():
     plan = fl.Plan.from_dict({
         "name": "middle",

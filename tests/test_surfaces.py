@@ -418,3 +418,35 @@ def test_two_pendants_over_one_island_share_it_along_its_length():
                        for p in ("pendant_1", "pendant_2"))
         assert along[0] == pytest.approx(-0.45, abs=0.05)  # over each half of its 1.8 m
         assert along[1] == pytest.approx(0.45, abs=0.05)
+
+
+def test_wall_units_over_a_row_of_counters_stay_over_their_targets():
+    """A range hood over a stove between two counters, a wall cabinet over each counter
+    as wide as it: settling the wall must not press the hood below its clearance or off
+    the stove (the settled wall is kept only where every object keeps its band and its
+    target's extent)."""
+    from forcelayout.surfaces import place_surfaces
+
+    plan = fl.Plan.from_dict({
+        "name": "kitchen", "room": {"polygon": [[0, 0], [3.2, 0], [3.2, 3.0], [0, 3.0]],
+                                    "height": 2.5},
+        "objects": [{"id": "counter_a", "category": "counter", "size": [0.8, 0.6, 0.9]},
+                    {"id": "stove", "category": "stove", "size": [0.6, 0.6, 0.9]},
+                    {"id": "counter_b", "category": "counter", "size": [1.0, 0.6, 0.9]},
+                    {"id": "hood", "category": "range_hood", "size": [0.6, 0.5, 0.3]},
+                    {"id": "cab_a", "category": "wall_cabinet", "size": [0.8, 0.35, 0.7]},
+                    {"id": "cab_b", "category": "wall_cabinet", "size": [1.0, 0.35, 0.7]}],
+        "rules": [{"rule": "above", "object": "hood", "target": "stove",
+                   "params": {"clearance": 0.65}},
+                  {"rule": "above", "object": "cab_a", "target": "counter_a",
+                   "params": {"clearance": 0.5}},
+                  {"rule": "above", "object": "cab_b", "target": "counter_b",
+                   "params": {"clearance": 0.5}}]})
+    y = 3.0 - 0.3  # backs to the top wall, facing into the room
+    floor = {"counter_a": fl.Pose(0.45, y, np.pi), "stove": fl.Pose(1.2, y, np.pi),
+             "counter_b": fl.Pose(2.0, y, np.pi)}
+    for seed in range(8):
+        out = place_surfaces(plan, floor, np.random.default_rng(seed))
+        assert not out.missing
+        report = fl.Layout(plan, out.poses).rule_report()
+        assert all(r.satisfied for r in report), [r.label for r in report if not r.satisfied]

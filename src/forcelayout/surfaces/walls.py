@@ -12,6 +12,7 @@ such as ``above``) starts over the target's centre and is pulled there too.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -251,7 +252,7 @@ def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gene
     blocks = {w: opening_blocks(plan, w) + _object_blocks(room, w, corners, tops, reach)
               for w in range(room.n_walls)}
     # initial spots, one object after the other (placed objects block the next)
-    placed: dict[int, list[tuple[Binding, float, float, np.ndarray]]] = {}
+    placed: dict[int, list[_Spot]] = {}
     for b in specs:
         oid = b.object
         w, d, h = cp.size([oid])[0]
@@ -288,7 +289,8 @@ def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gene
                 goal_u = u if span is None else 0.5 * (span[0] + span[1])
                 v_goal = float(np.clip(EYE_LEVEL, low + h / 2, high - h / 2))
                 stiff = np.array([0.0 if span is None else 1.0, 0.5])
-                placed.setdefault(wall, []).append((b, u, v, np.array([goal_u, v_goal, *stiff])))
+                placed.setdefault(wall, []).append(
+                    _Spot(b, u, v, np.array([goal_u, v_goal, *stiff]), (low, high), span))
                 break
         if spot is None:
             band = f"{low:.2f}..{high:.2f} m"
@@ -298,9 +300,22 @@ def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gene
                                f"{band} (doors, windows and furniture block it)")
     for wall, items in placed.items():
         own = {(u - cp.size([b.object])[0, 0] / 2, u + cp.size([b.object])[0, 0] / 2, v,
-                v + cp.size([b.object])[0, 2]) for b, u, v, _ in items}
+                v + cp.size([b.object])[0, 2]) for b, u, v, *_ in items}
         static = [blk for blk in blocks[wall] if blk not in own]
         yield from _wall_plane(cp, wall, items, static, relations, cfg, poses, out, models)
+
+
+class _Spot(NamedTuple):
+    """A wall object's first spot: its binding, ``(u centre, v bottom)``, its anchor
+    ``(u, v, stiffness u, stiffness v)``, its band of heights (bottom, top) and the
+    extent along the wall of its target (None without one)."""
+
+    binding: Binding
+    u: float
+    v: float
+    goal: np.ndarray
+    band: tuple[float, float]
+    span: tuple[float, float] | None
 
 
 #: Spots drawn for a wall object whose rules tie it to floor objects, the best kept.
@@ -380,15 +395,15 @@ def _wall_spot(length: float, blocks: list[Block], w: float, h: float, low: floa
 
 
 def _wall_plane(cp: CompiledPlan, wall: int,
-                items: list[tuple[Binding, float, float, np.ndarray]], static: list[Block],
+                items: list[_Spot], static: list[Block],
                 relations: bool, cfg: SolverConfig, poses: dict[str, Pose],
                 out: SurfacePlacement, models: dict) -> SampleTask[None]:
     room = cp.room
     L, H = float(room.length[wall]), cp.plan.room.height
-    ids = [b.object for b, _, _, _ in items]
+    ids = [it.binding.object for it in items]
     size = cp.size(ids)
-    pos = np.array([[u, v + size[k, 2] / 2] for k, (_, u, v, _) in enumerate(items)])
-    goal = np.array([g for _, _, _, g in items])
+    pos = np.array([[it.u, it.v + size[k, 2] / 2] for k, it in enumerate(items)])
+    goal = np.array([it.goal for it in items])
     obstacles = [rect(max(a, 0.0), max(b0, 0.0), min(b, L), min(b1, H)) for a, b, b0, b1 in static
                  if min(b, L) - max(a, 0.0) > 1e-3 and min(b1, H) - max(b0, 0.0) > 1e-3]
     # on the plane an object's extent is its width along the wall and its height up it
@@ -400,8 +415,7 @@ def _wall_plane(cp: CompiledPlan, wall: int,
     out.steps += res.steps
     out.converged &= res.converged
     final = res.pos
-    bands = [wall_band(b, H) for b, _, _, _ in items]
-    if not _wall_ok(final, res.yaw, size, static, L, bands):
+    if not _wall_ok(final, res.yaw, size, static, L, items):
         final = pos
     for k, o in enumerate(ids):
         u, vc = final[k]
@@ -409,16 +423,20 @@ def _wall_plane(cp: CompiledPlan, wall: int,
 
 
 def _wall_ok(pos: np.ndarray, yaw: np.ndarray, size: np.ndarray, static: list[Block],
-             length: float, bands: list[tuple[float, float]]) -> bool:
-    """Whether settled wall objects lie on the wall, in their bands, clear of all else."""
+             length: float, items: list[_Spot]) -> bool:
+    """Whether settled wall objects lie on the wall, in their bands (above their targets'
+    tops by the rules' clearance), centred over their targets' extents, clear of all else."""
     if np.abs(yaw).max() > 0.02 or not np.isfinite(pos).all():
         return False
     u0, u1 = pos[:, 0] - size[:, 0] / 2, pos[:, 0] + size[:, 0] / 2
     v0, v1 = pos[:, 1] - size[:, 2] / 2, pos[:, 1] + size[:, 2] / 2
     if (u0 < -1e-3).any() or (u1 > length + 1e-3).any():
         return False
-    for k, (low, high) in enumerate(bands):
+    for k, it in enumerate(items):
+        low, high = it.band
         if v0[k] < low - 1e-3 or v1[k] > high + 1e-3:
+            return False
+        if it.span is not None and not it.span[0] - 1e-3 <= pos[k, 0] <= it.span[1] + 1e-3:
             return False
         for a, b, c, d in static:
             if u0[k] < b - 1e-3 and u1[k] > a + 1e-3 and v0[k] < d - 1e-3 and v1[k] > c + 1e-3:

@@ -186,6 +186,54 @@ def test_too_little_free_floor_is_repaired_by_moving_lone_objects_and_slivers():
     assert freed >= 2 and fixed >= 1
 
 
+def _cramped() -> tuple[ForceModel, np.ndarray, np.ndarray]:
+    """Three cabinets in a 3 x 3 m room, all facing +x: ``a`` and ``b`` 0.15 m off the
+    left wall and 0.25 m apart (slivers no agent fits through), ``c`` 0.4 m or more from
+    everything."""
+    plan = fl.Plan.model_validate({
+        "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]],
+                 "doors": [{"wall": 1, "offset": 2.5, "width": 0.8}]},
+        "objects": [{"id": k, "category": "cabinet", "size": [0.8, 0.5, 0.9]}
+                    for k in ("a", "b", "c")]})
+    model = ForceModel(plan)
+    at = {"a": (0.4, 1.2), "b": (0.4, 2.25), "c": (2.2, 0.8)}
+    return model, np.array([at[i] for i in model.ids]), np.full(3, -np.pi / 2)
+
+
+def test_the_closing_pull_draws_slivers_shut_and_leaves_wider_gaps_alone():
+    from forcelayout.forces import ClosingTerm
+
+    model, pos, yaw = _cramped()
+    a, b, c = (model.ids.index(k) for k in "abc")
+    pi, pj = np.array([a, a, b]), np.array([b, c, c])
+    f, tau = ClosingTerm(pi, pj, np.ones(3, bool), 0.2, 1.0)(model.state(pos, yaw), 1.0)
+    np.testing.assert_allclose(f[a], [-1.0, 1.0])  # to its wall, and to b
+    np.testing.assert_allclose(f[b], [-1.0, -1.0])  # to its wall, and to a
+    np.testing.assert_allclose(f[c], [0.0, 0.0])  # 0.4 m from a wall: room for the agent
+    np.testing.assert_allclose(tau, 0.0)
+    f, _ = ClosingTerm(pi, pj, np.ones(3, bool), 0.1, 1.0)(model.state(pos, yaw), 1.0)
+    assert not f.any()  # a narrower agent fits through both gaps
+
+
+def test_a_floor_short_of_free_space_is_resettled_with_its_slivers_closed():
+    from forcelayout.options import SolverConfig
+    from forcelayout.repair import repair_floor
+    from forcelayout.verdict import judge_floor
+
+    model, pos, yaw = _cramped()
+    need = {"min_free_fraction": 0.8}  # more than three cabinets leave free
+    before = judge_floor(model, pos, yaw, need)
+    assert [f.split(":")[0] for f in before.failures] == ["navigable"]
+    p, y, _, notes = repair_floor(model, pos, yaw, SolverConfig(), rounds=1, check_kwargs=need)
+    after = judge_floor(model, p, y, need)
+    assert after.free > before.free + 0.02
+    assert notes and notes[0].startswith("resettled a, b") and "of the floor free" in notes[0]
+    st = model.state(p, y)
+    a, b = model.ids.index("a"), model.ids.index("b")
+    assert st.separations[a, b] < 0.1  # the sliver between them closed (to the repulsion)
+    assert (st.corners[[a, b], :, 0].min(axis=1) < 0.05).all()  # and the ones at the wall
+
+
 def test_an_object_wanted_by_a_door_may_stand_beside_its_swing_square():
     """A fridge near_door on the wall across the door's corner, clear of the swing square
     but 5 cm into the deeper entry zone, is not pushed away (its rule and the checks agree

@@ -40,7 +40,7 @@ from forcelayout.clearance import WindowTerm
 from forcelayout.geometry import RoomGeometry
 from forcelayout.plan import Plan
 from forcelayout.rules.base import ParamArrays, State, stacked_rows
-from forcelayout.rules.physical import PhysicalWeights, physical, repulsion
+from forcelayout.rules.physical import PhysicalWeights, closing, physical, repulsion
 from forcelayout.validate.checks import window_zones
 
 __all__ = [
@@ -48,6 +48,7 @@ __all__ = [
     "RuleTerm",
     "PassageTerm",
     "PhysicalTerm",
+    "ClosingTerm",
     "ForceModel",
     "StackedForces",
     "stack_term",
@@ -204,6 +205,32 @@ class PhysicalTerm:
     def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
         return physical(state, self.pi, self.pj, self.weights, self.solid, self.slide,
                         self.entry)
+
+
+class ClosingTerm:
+    """A pull that closes slivers of floor too narrow for the agent, between the pairs
+    ``(qi, qj)`` and between the ``solid`` rows and the walls
+    (:func:`~forcelayout.rules.physical.closing`); not annealed.
+
+    The gradient of the free floor the ``navigable`` check counts: repair
+    rounds of an arrangement short of free floor simulate with it.
+    """
+
+    annealed = False
+
+    def __init__(self, qi: np.ndarray, qj: np.ndarray, solid: np.ndarray, radius: float,
+                 strength: float):
+        self.qi, self.qj, self.solid = qi, qj, np.asarray(solid, dtype=bool)
+        self.radius, self.strength = radius, strength
+
+    def stack(self, samples: int, rows: int) -> ClosingTerm:
+        """The same pulls in each of ``samples`` stacked samples of ``rows`` rows."""
+        return ClosingTerm(stacked_rows(self.qi, samples, rows),
+                           stacked_rows(self.qj, samples, rows),
+                           np.tile(self.solid, samples), self.radius, self.strength)
+
+    def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
+        return closing(state, self.qi, self.qj, self.solid, self.radius, self.strength)
 
 
 class _EachOwn:

@@ -23,7 +23,7 @@ from forcelayout.initial import Starts
 from forcelayout.layout import Pose
 from forcelayout.options import Options
 from forcelayout.plan import Plan
-from forcelayout.repair import repair_task, repairing
+from forcelayout.repair import closing, repair_task, repairing
 from forcelayout.solver import SimulationResult
 from forcelayout.surfaces import check_surfaces, place_surfaces_batch
 from forcelayout.verdict import JudgeRequest, allowed_misses
@@ -133,12 +133,19 @@ class _Models:
     placer: object  # the start poses' candidate drawer (initial.Starts.placer_of)
     muted: dict[frozenset[int], ForceModel] = field(default_factory=dict)
     walking: ForceModel | None = None  # for repair rounds (repair.repairing), when needed
+    closer: ForceModel | None = None  # for repair rounds short of floor (repair.closing)
 
     def repairing(self) -> ForceModel:
         """The model of repair rounds, built once for the batch (so its rounds batch)."""
         if self.walking is None:
             self.walking = repairing(self.full)
         return self.walking
+
+    def closing(self, radius: float) -> ForceModel:
+        """The model of repair rounds short of free floor, built once for the batch."""
+        if self.closer is None:
+            self.closer = closing(self.full, radius)
+        return self.closer
 
     def settling(self, missed: set[int]) -> ForceModel:
         """The settling model for a start that passes with the bindings at ``missed``
@@ -199,7 +206,8 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Mo
             pos, yaw, extra, repairs = yield from repair_task(
                 model, pos, yaw, opts.solver, rounds=opts.repair,
                 check_kwargs=opts.check_kwargs, rng=rng, placer=models.placer,
-                walking=models.repairing())
+                walking=models.repairing(),
+                closer=models.closing(float(opts.check_kwargs.get("agent_radius", 0.2))))
             steps += extra
             yaw = (yaw + np.pi) % (2 * np.pi) - np.pi
     else:

@@ -20,12 +20,13 @@ from dataclasses import replace
 import numpy as np
 
 from forcelayout.batching import SampleTask, SimRequest, drive
-from forcelayout.forces import ForceModel, PassageTerm
+from forcelayout.forces import ClosingTerm, ForceModel, PassageTerm
 from forcelayout.initial import RelocateRequest, Starts, _movers
 from forcelayout.options import SolverConfig
+from forcelayout.rules.shaping import CAP
 from forcelayout.verdict import FloorVerdict, JudgeRequest
 
-__all__ = ["repair_floor", "repair_task", "repairing"]
+__all__ = ["repair_floor", "repair_task", "repairing", "closing"]
 
 #: Candidates and spread of the new spots a repair draws (as start poses draw them).
 _TRIES, _SPREAD = 16, 0.3
@@ -37,12 +38,16 @@ def repair_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: So
                  ) -> tuple[np.ndarray, np.ndarray, int, list[str]]:
     """Repair a settled floor arrangement by moving only the objects at fault.
 
-    Round 1 resettles the objects at fault where they are; later rounds (given
-    ``rng``) first move them to new spots drawn as start poses are
-    (:func:`forcelayout.initial.relocate`: another wall, another corner, the
-    other side of their parent), with their parents every other round (rounds
-    3, 5, ...), then resettle them. Three rounds in a row that do not help end
-    the repair. One sample of :func:`repair_task` (the batched engine's form).
+    Round 1 resettles the objects at fault where they are, with their children
+    (the objects that start beside them: the rug under a beanbag, the chair at
+    a desk); later rounds (given ``rng``) first move them to new spots drawn as
+    start poses are (:func:`forcelayout.initial.relocate`: another wall,
+    another corner, the other side of their parent), with their parents every
+    other round (rounds 3, 5, ...), then resettle them. A round simulates
+    :func:`repairing`'s model, or :func:`closing`'s where the floor is short of
+    free space and nothing is unreachable. Three rounds in a row that do not
+    help end the repair. One sample of :func:`repair_task` (the batched
+    engine's form).
 
     Parameters
     ----------
@@ -90,17 +95,43 @@ def repairing(model: ForceModel) -> ForceModel:
     return out
 
 
+def closing(model: ForceModel, radius: float = 0.2) -> ForceModel:
+    """The model a repair round of an arrangement short of free floor simulates:
+    ``model`` with a pull that closes the slivers of floor too narrow for an agent of
+    ``radius`` (:class:`~forcelayout.forces.ClosingTerm`) between every two solid
+    objects and between each and the walls.
+
+    Such gaps are lost to the agent whole; closing them is what frees floor.
+    The walking-room term, which asks the same gaps to open, is left out.
+    Build it once per model, as :func:`repairing`.
+    """
+    n = model.n
+    pi, pj = (a.astype(int) for a in np.triu_indices(n, k=1))
+    solid = ~np.asarray(model.walkable, dtype=bool)
+    keep = solid[pi] & solid[pj]
+    out = model.leaving_out(PassageTerm)
+    out.add_term(ClosingTerm(pi[keep], pj[keep], solid, radius, _CLOSING))
+    return out
+
+
+#: Strength of the pull closing slivers in a repair round: less than half a rule's
+#: full pull (``rules.shaping.CAP``), so it closes a gap no rule holds open.
+_CLOSING = 0.4 * CAP
+
+
 def repair_task(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: SolverConfig,
                 *, rounds: int = 2, steps: int = 80, check_kwargs: dict | None = None,
                 verdict: FloorVerdict | None = None, rng: np.random.Generator | None = None,
-                placer=None, walking: ForceModel | None = None
+                placer=None, walking: ForceModel | None = None,
+                closer: ForceModel | None = None
                 ) -> SampleTask[tuple[np.ndarray, np.ndarray, int, list[str]]]:
     """:func:`repair_floor` as a sample task (:mod:`forcelayout.batching`): it asks for
     each verdict with a :class:`~forcelayout.verdict.JudgeRequest`, for each new spot
     with a :class:`~forcelayout.initial.RelocateRequest` and for each round's
     simulation with a :class:`~forcelayout.batching.SimRequest` (its own fixed rows),
     so the repairs of a batch's samples run together. Give the samples of a batch the
-    same ``placer`` (:meth:`Starts.placer_of`) and ``walking`` (:func:`repairing`)."""
+    same ``placer`` (:meth:`Starts.placer_of`), ``walking`` (:func:`repairing`) and
+    ``closer`` (:func:`closing`)."""
     if verdict is None:
         verdict = yield JudgeRequest(model, pos, yaw, check_kwargs)
     spent, notes = 0, []
@@ -116,16 +147,22 @@ def repair_task(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: Sol
             walking = repairing(model)
         movers = np.zeros(model.n, dtype=bool)
         movers[sorted(verdict.at_fault)] = True
+        # an object moves with the objects that start beside it (its children: the rug
+        # under it, the chair in front of it); moved elsewhere, every other round with
+        # its parent too
+        movers = _movers(placer.parent, movers, with_parents=k > 0 and k % 2 == 0)
         start_pos, start_yaw, how = pos, yaw, "resettled"
         if k > 0 and rng is not None:
-            # an object moves elsewhere with the objects that start beside it (its
-            # children), every other round with its parent too
-            movers = _movers(placer.parent, movers, with_parents=k % 2 == 0)
             start_pos, start_yaw = yield RelocateRequest(
                 placer, rng, tuple(np.flatnonzero(movers).tolist()), pos, yaw, _TRIES,
                 _SPREAD)
             how = "moved elsewhere"
-        res = yield SimRequest(walking, start_pos, start_yaw, cfg, fixed=~movers)
+        short = any(f.startswith("navigable:") for f in verdict.failures) and not any(
+            f.startswith("reachable:") for f in verdict.failures)
+        if short and closer is None:
+            closer = closing(model, float((check_kwargs or {}).get("agent_radius", 0.2)))
+        res = yield SimRequest(closer if short else walking, start_pos, start_yaw, cfg,
+                               fixed=~movers)
         spent += res.steps
         after = yield JudgeRequest(model, res.pos, res.yaw, check_kwargs)
         if not after.better_than(verdict):

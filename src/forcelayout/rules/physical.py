@@ -18,7 +18,7 @@ from forcelayout import geometry as geo
 from forcelayout.rules.base import State
 
 __all__ = ["PhysicalWeights", "repulsion", "boundary", "alignment", "door_clearance", "physical",
-           "SWING_MARGIN"]
+           "closing", "SWING_MARGIN"]
 
 _EPS = 1e-3
 
@@ -225,6 +225,39 @@ def door_clearance(state: State, w: PhysicalWeights, slide: np.ndarray | None = 
     fa = np.where(sideways, np.where(along >= 0, depth, -depth), 0.0)
     fb = np.where(sideways, 0.0, depth)
     return fa @ dr + fb @ df, np.zeros(n)
+
+
+def closing(state: State, pi: np.ndarray, pj: np.ndarray, solid: np.ndarray, radius: float,
+            strength: float, touching: float = 0.03) -> tuple[np.ndarray, np.ndarray]:
+    """Pull that closes slivers of floor too narrow for an agent of ``radius``.
+
+    The free floor the ``navigable`` check counts is the floor farther than
+    ``radius`` from every footprint, so a gap narrower than the agent's width
+    between two footprints, or narrower than its radius between a footprint and
+    a wall, is lost whole, and closing it frees floor as fast as it closes (the
+    gradient of the free area). Each pair ``(pi, pj)`` at a clearance between
+    ``touching`` and ``2 * radius`` is drawn together, and each ``solid`` row
+    (N,) beside a wall at a clearance between ``touching`` and ``radius`` is
+    drawn to it, with a constant force ``strength``; wider gaps feel nothing.
+    """
+    n = state.n
+    f = np.zeros((n, 2))
+    if pi.size:
+        sep = state.separation(pi, pj)
+        on = (sep > touching) & (sep < 2.0 * radius)
+        if on.any():
+            a, b = pi[on], pj[on]
+            d = state.pos[b] - state.pos[a]
+            u = d / np.maximum(np.sqrt((d * d).sum(1)), 1e-9)[:, None] * strength
+            np.add.at(f, a, u)
+            np.add.at(f, b, -u)
+    room = state.room
+    s = np.einsum("nkd,wd->nkw", state.corners, room.normal) - room.normal_offset
+    t = state.pos @ room.tangent.T - room.tangent_offset
+    gap = np.where((t > 0.0) & (t < room.length), s.min(axis=1), np.inf)  # (N, W)
+    near = (gap > touching) & (gap < radius) & solid[:, None]
+    f -= (near.astype(float) @ room.normal) * strength
+    return f, np.zeros(n)
 
 
 def physical(

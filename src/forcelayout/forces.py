@@ -37,7 +37,7 @@ import numpy as np
 from forcelayout.access import AccessTerm, access_term
 from forcelayout.bindings import Binding, CompiledPlan, RuleGroup, compile_plan, group_bindings
 from forcelayout.clearance import WindowTerm
-from forcelayout.geometry import RoomGeometry
+from forcelayout.geometry import RoomGeometry, corners_from_axes
 from forcelayout.plan import Plan
 from forcelayout.rules.base import ParamArrays, State, stacked_rows
 from forcelayout.rules.physical import PhysicalWeights, closing, physical, repulsion
@@ -323,6 +323,13 @@ class ForceModel:
         self.plan = self.compiled.plan
         self.ids = tuple(ids) if ids is not None else self.compiled.floor_ids
         self.room = room if room is not None else self.compiled.room
+        #: Convex polygons (K, 2) no solid row may enter, static in the simulation as the
+        #: walls are: the doors' swing squares, which the checks keep clear (a push
+        #: alone, however steep, lets a row pressed by preferences rest a few millimetres
+        #: inside). Only in the plan's own room (a plane has no doors).
+        self.keep_out: list[np.ndarray] = []
+        if self.room is self.compiled.room and len(self.room.doors):
+            self.keep_out = list(corners_from_axes(*self.room.door_squares))
         if sizes is None:
             self.size = self.compiled.size(self.ids)
         else:

@@ -206,7 +206,7 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Mo
             pos, yaw, extra, repairs = yield from repair_task(
                 model, pos, yaw, opts.solver, rounds=opts.repair,
                 check_kwargs=opts.check_kwargs, rng=rng, placer=models.placer,
-                walking=models.repairing(),
+                walking=models.repairing(), misses=misses,
                 closer=models.closing(float(opts.check_kwargs.get("agent_radius", 0.2))))
             steps += extra
             yaw = (yaw + np.pi) % (2 * np.pi) - np.pi

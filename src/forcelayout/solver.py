@@ -282,7 +282,8 @@ def simulate_batch(
     if n == 0 or count == 0:
         return [SimulationResult(pos[b], yaw[b], 0, True) for b in range(count)]
     fixtures = _fixtures(model, _footprints(model))
-    walls = [list(obstacles or []) + list(sample_obstacles[b] if sample_obstacles else [])
+    walls = [list(model.keep_out) + list(obstacles or [])
+             + list(sample_obstacles[b] if sample_obstacles else [])
              for b in range(count)]  # each sample's static obstacles
     own_terms = [list(ts) for ts in sample_terms] if sample_terms else None
     if own_terms is not None and len({len(ts) for ts in own_terms}) > 1:

@@ -45,10 +45,17 @@ class FloorVerdict:
     missed: set[int] = field(default_factory=set)
     free: float = 1.0
 
-    def better_than(self, other: FloorVerdict) -> bool:
-        """Whether this arrangement fails less than ``other``: fewer failures, or as many
-        with clearly more free floor where too little is free and the other failures
-        the same (a step towards the ``navigable`` check that does not yet pass it)."""
+    def better_than(self, other: FloorVerdict, misses: int = 0) -> bool:
+        """Whether this arrangement is nearer acceptance than ``other``.
+
+        Fewer of the failures that reject a sample (failed checks, and unmet bindings
+        beyond the ``misses`` it may leave unmet: a door kept clear at the price of one
+        rule left unmet, as the sample allows, is nearer); as many, fewer failures; as
+        many again, clearly more free floor where too little is free and the other
+        failures the same (a step towards the ``navigable`` check that does not yet
+        pass it)."""
+        if self.rejecting(misses) != other.rejecting(misses):
+            return self.rejecting(misses) < other.rejecting(misses)
         if len(self.failures) != len(other.failures):
             return len(self.failures) < len(other.failures)
 
@@ -57,6 +64,11 @@ class FloorVerdict:
 
         short = any(f.startswith("navigable:") for f in other.failures)
         return short and rest(self) == rest(other) and self.free > other.free + 0.005
+
+    def rejecting(self, misses: int = 0) -> int:
+        """How many failures reject the arrangement: failed checks, and the unmet
+        bindings beyond ``misses``."""
+        return len(self.failures) - self.unmet + max(0, self.unmet - misses)
 
     @property
     def unmet(self) -> int:

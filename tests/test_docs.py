@@ -263,3 +263,11 @@ def test_docstring_examples_run(name: str, monkeypatch: pytest.MonkeyPatch, tmp_
     result = doctest.testmod(module, optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE,
                              verbose=False, report=True)
     assert result.failed == 0, f"{name}: {result.failed} of {result.attempted} examples failed"
+
+
+def test_concepts_page_lists_the_categories_with_an_access_zone():
+    from forcelayout.access import CATEGORY_ACCESS
+
+    text = (DOCS / "concepts.md").read_text()
+    missing = [w for w in CATEGORY_ACCESS if f"`{w}`" not in text]
+    assert not missing, f"docs/concepts.md does not list {missing}"

@@ -270,6 +270,27 @@ def test_an_object_by_a_door_pressed_towards_it_stays_out_of_its_swing_square(sh
     assert res.pos[0, 0] + 0.4 > 2.5 - 0.1  # pressed up to the square's edge
 
 
+def test_an_object_that_starts_in_a_swing_square_is_pushed_out_into_the_room():
+    """A square a row starts inside is not made static for that simulation (the row would be
+    thrown out through the nearest edge, the wall's side as readily as the room's): its
+    push moves the row out, and the row stays in the room."""
+    from forcelayout.solver import simulate
+
+    plan = fl.Plan.from_dict({
+        "name": "hall", "room": {"polygon": [[0, 0], [3.0, 0], [3.0, 3.0], [0, 3.0]],
+                                 "doors": [{"wall": 0, "offset": 1.5, "width": 0.9}]},
+        "objects": [{"id": "cabinet", "category": "cabinet", "size": [0.8, 0.5, 1.0]}],
+        "rules": [{"rule": "at_wall", "object": "cabinet"}]})
+    model = ForceModel(plan)
+    assert len(model.keep_out) == 1
+    res = simulate(model, np.array([[1.2, 0.26]]), np.zeros(1))  # half in the square
+    corners = fl.geometry.box_corners(res.pos, res.yaw, model.size[:, :2] * 0.5)
+    assert model.room.contains(corners.reshape(-1, 2)).all()
+    lay = fl.Layout(plan, {"cabinet": fl.Pose(*res.pos[0], float(res.yaw[0]))})
+    from forcelayout.validate import check_layout
+    assert not check_layout(lay).failures
+
+
 def test_an_object_wanted_by_a_door_may_stand_beside_its_swing_square():
     """A fridge near_door on the wall across the door's corner, clear of the swing square
     but 5 cm into the deeper entry zone, is not pushed away (its rule and the checks agree

@@ -36,7 +36,7 @@ from Box2D import (
 )
 
 from forcelayout.forces import ForceModel, ForceTerm, join_terms
-from forcelayout.geometry import RoomGeometry
+from forcelayout.geometry import RoomGeometry, box_corners
 from forcelayout.options import SolverConfig
 from forcelayout.rules.base import State
 
@@ -138,6 +138,28 @@ def _at_rest(model: ForceModel, state: State, f: np.ndarray, tau: np.ndarray,
     bodies = shapely.polygons(state.corners)
     walls = np.array([shapely.Polygon(np.asarray(o, dtype=float)) for o in obstacles])
     return not (shapely.area(shapely.intersection(bodies[:, None], walls[None])) > 1e-9).any()
+
+
+def _clear_keep_out(model: ForceModel, pos: np.ndarray, yaw: np.ndarray
+                    ) -> list[list[np.ndarray]]:
+    """Each sample's static keep-out polygons (:attr:`ForceModel.keep_out`): those no
+    solid row overlaps at its start. A row that starts inside one is pushed out by its
+    force term instead; made static, it would be thrown out through the nearest edge,
+    a wall's side as readily as the room's."""
+    count = len(pos)
+    if not model.keep_out:
+        return [[] for _ in range(count)]
+    solid = ~np.asarray(model.walkable, dtype=bool)
+    if not solid.any():
+        return [list(model.keep_out) for _ in range(count)]
+    half = model.size[solid, :2] * 0.5
+    bodies = shapely.polygons(box_corners(pos[:, solid].reshape(-1, 2), yaw[:, solid].reshape(-1),
+                                          np.tile(half, (count, 1))))
+    zones = shapely.polygons(np.asarray(model.keep_out, dtype=float))
+    hit = shapely.area(shapely.intersection(bodies[:, None], zones[None])) > 1e-9
+    hit = hit.reshape(count, -1, len(zones)).any(axis=1)  # (B, K)
+    return [[model.keep_out[k] for k in range(len(zones)) if not hit[b, k]]
+            for b in range(count)]
 
 
 def _add(terms: Sequence[ForceTerm], state: State, temperature: float, annealed: bool,
@@ -282,7 +304,8 @@ def simulate_batch(
     if n == 0 or count == 0:
         return [SimulationResult(pos[b], yaw[b], 0, True) for b in range(count)]
     fixtures = _fixtures(model, _footprints(model))
-    walls = [list(model.keep_out) + list(obstacles or [])
+    keep_out = _clear_keep_out(model, pos, yaw)
+    walls = [keep_out[b] + list(obstacles or [])
              + list(sample_obstacles[b] if sample_obstacles else [])
              for b in range(count)]  # each sample's static obstacles
     own_terms = [list(ts) for ts in sample_terms] if sample_terms else None

@@ -325,3 +325,29 @@ def test_a_repair_is_kept_where_it_trades_a_failed_check_for_a_rule_the_sample_m
     assert one.better_than(door, misses=1) and not door.better_than(one, misses=1)
     assert not one.better_than(door, misses=0) and not door.better_than(one, misses=0)
     assert one.passes(1) and not door.passes(1)
+
+
+def test_objects_holding_the_floor_a_rule_wants_by_a_window_are_at_fault_with_it():
+    """A desk that cannot get near the window because a bed stands by it: the bed is at
+    fault too (a repair may move it); an armchair by the window with a rule of its own
+    there, and a wardrobe far from it, are not."""
+    from forcelayout.verdict import judge_floor
+
+    plan = fl.Plan.from_dict({
+        "name": "dorm", "room": {"polygon": [[0, 0], [3.6, 0], [3.6, 4.2], [0, 4.2]],
+                                 "doors": [{"wall": 0, "offset": 3.0, "width": 0.9}],
+                                 "windows": [{"wall": 2, "offset": 1.8, "width": 1.5}]},
+        "objects": [{"id": "desk", "category": "desk", "size": [1.0, 0.6, 0.75]},
+                    {"id": "bed", "category": "bed", "size": [0.9, 2.0, 0.55]},
+                    {"id": "armchair", "category": "armchair", "size": [0.7, 0.7, 0.8]},
+                    {"id": "wardrobe", "category": "wardrobe", "size": [0.8, 0.6, 2.0]}],
+        "rules": [{"rule": "near_window", "object": "desk"},
+                  {"rule": "near_window", "object": "armchair"}]})
+    model = ForceModel(plan)
+    at = {"desk": ((1.0, 0.3), 0.0), "bed": ((1.4, 3.2), np.pi / 2),
+          "armchair": ((3.1, 3.7), np.pi), "wardrobe": ((0.3, 1.6), -np.pi / 2)}
+    pos = np.array([at[i][0] for i in model.ids])
+    yaw = np.array([at[i][1] for i in model.ids])
+    v = judge_floor(model, pos, yaw)
+    assert "near_window(desk)" in v.failures
+    assert {model.ids[r] for r in v.at_fault} == {"desk", "bed"}

@@ -6,7 +6,8 @@ deterministic checks on the floor objects, and every floor binding by its
 rule's own check), names the objects at fault — those blocking the path to
 an unreachable object (:attr:`CheckReport.blocked_by`), those named by a
 collision, door or window failure, those leaving slivers of floor no agent
-fits through, and the objects of unmet bindings — and runs a short
+fits through, the objects of unmet bindings and those holding the floor by
+the opening an unmet ``near_window`` or ``near_door`` wants — and runs a short
 simulation in which only they move (with their children), with the rules
 at full strength and a walkway term that asks them to leave an agent's
 width to their neighbours or to touch them; where the floor is short of

@@ -175,7 +175,29 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
             v.failures.append(str(b))
             v.missed.add(k)
             v.at_fault.add(row[b.object])
+            v.at_fault.update(_holding(model, pos[s], b))
     return out
+
+
+def _holding(model: ForceModel, pos: np.ndarray, binding) -> list[int]:
+    """Rows of the solid floor objects that hold the floor an unmet binding's object wants
+    by a door or a window (its rule's start place, within its reach): those not wanted
+    there by a rule of their own. A desk kept from the window by a bed that stands under
+    it fails with the bed."""
+    hint = binding.rule.start
+    if hint is None or hint.place not in ("window", "door") or hint.reach is None:
+        return []
+    openings = model.room.windows if hint.place == "window" else model.room.doors
+    pick = int(getattr(binding.params, hint.which, -1)) if hint.which else -1
+    centres = openings.centres(pick)
+    if not len(centres):
+        return []
+    reach = float(getattr(binding.params, hint.reach))
+    there = {model.ids.index(b.object) for b in model.bindings
+             if b.rule.start is not None and b.rule.start.place == hint.place}
+    solid = ~np.asarray(model.walkable, dtype=bool)
+    near = np.linalg.norm(pos[:, None] - centres[None], axis=2).min(axis=1) < reach
+    return [r for r in np.flatnonzero(near & solid).tolist() if r not in there]
 
 
 def _slivers(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, radius: float

@@ -351,3 +351,18 @@ def test_objects_holding_the_floor_a_rule_wants_by_a_window_are_at_fault_with_it
     v = judge_floor(model, pos, yaw)
     assert "near_window(desk)" in v.failures
     assert {model.ids[r] for r in v.at_fault} == {"desk", "bed"}
+
+
+def test_a_crowded_plan_accepts_more_samples_with_more_start_rounds():
+    from pathlib import Path
+
+    from forcelayout.sampling import sample_seed, solve_many
+
+    plan = fl.load_plan(Path(__file__).parents[1] / "benchmarks" / "plans"
+                        / "dorm_room_double_crowded.json")  # 44 % of the floor furnished
+    seeds = [sample_seed(0, k) for k in range(12)]
+    few = sum(lay.report.valid for lay in solve_many(plan, seeds, starts=1))
+    many = sum(lay.report.valid for lay in solve_many(plan, seeds))
+    assert many >= few + 3
+    with pytest.raises(ValueError, match="Options.starts"):
+        fl.Options(starts=0)

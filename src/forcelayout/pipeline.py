@@ -176,7 +176,8 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Mo
     misses = allowed_misses(len(model.compiled.bindings),
                             max(opts.min_rule_satisfaction, START_RULE_SATISFACTION))
     steps, settled, start, fewest, tried = 0, None, None, np.inf, 0
-    starts = Starts(model, rng, placer=models.placer, misses=misses, ahead=START_AHEAD)
+    starts = Starts(model, rng, placer=models.placer, misses=misses, ahead=START_AHEAD,
+                    restarts=opts.starts)
     while True:
         got = yield from starts.next()
         if got is None:

@@ -61,6 +61,20 @@ def test_plugin_rule_conforms_and_is_described():
     info = {i.name: i for i in fl.rules.describe_rules("near_plant")}["near_plant"]
     assert info.summary.startswith("Beside a potted plant")
     assert "distance" in info.params
+    assert info.package == "forcelayout-plant-rules"  # not mistaken for a built-in
+    assert {i.package for i in fl.rules.describe_rules("near*") if i.name != "near_plant"} \
+        == {"forcelayout"}
+
+
+def test_the_rules_listing_marks_plugin_rules_with_their_package(capsys):
+    from forcelayout.cli import main
+
+    assert main(["rules", "near*"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert [ln for ln in lines if "(plugin: " in ln] == \
+        [ln for ln in lines if ln.startswith("near_plant")]
+    assert lines[[ln.split()[0] for ln in lines].index("near_plant")].endswith(
+        "(plugin: forcelayout-plant-rules)")
 
 
 def test_unknown_plugin_rule_suggests_installing_or_registering():

@@ -60,7 +60,7 @@ def _cmd_rules(args: argparse.Namespace) -> int:
                            "positional": i.positional, "closeness": i.closeness,
                            "opposite": i.opposite, "aliases": list(i.aliases),
                            "feature": i.feature, "specialises": list(i.specialises),
-                           "fallback": i.fallback,
+                           "fallback": i.fallback, "package": i.package,
                            "summary": i.summary, "weight": i.weight, "params": i.params}
                           for i in infos],
                          indent=2, default=str))
@@ -68,7 +68,9 @@ def _cmd_rules(args: argparse.Namespace) -> int:
     width = max((len(i.name) for i in infos), default=4)
     for i in infos:
         params = ", ".join(f"{k}={v['default']}" for k, v in i.params.items())
-        print(f"{i.name:<{width}}  {i.kind:<7}  {i.summary}" + (f"  [{params}]" if params else ""))
+        plugin = "" if i.package == "forcelayout" else f"  (plugin: {i.package})"
+        print(f"{i.name:<{width}}  {i.kind:<7}  {i.summary}" + (f"  [{params}]" if params else "")
+              + plugin)
     return 0
 
 

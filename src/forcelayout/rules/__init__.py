@@ -26,9 +26,10 @@ from __future__ import annotations
 
 import difflib
 import fnmatch
+import functools
 import importlib
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from importlib.metadata import entry_points, packages_distributions
 from typing import Any, TypeVar
@@ -138,6 +139,9 @@ class RuleInfo:
     feature: str | None = None
     specialises: tuple[str, ...] = ()
     fallback: str | None = None
+    #: The installed distribution that provides the rule: ``"forcelayout"`` for the
+    #: built-in vocabulary, a plugin's package otherwise.
+    package: str = "forcelayout"
 
 
 def register(
@@ -209,11 +213,17 @@ def _describe(entry: type[Rule] | str) -> str:
 def _package_of(entry: str) -> str:
     """The installed distribution that provides the module of ``"module:Class"``."""
     top = entry.split(":", 1)[0].split(".", 1)[0]
+    return (_distributions().get(top) or [top])[0]
+
+
+@functools.cache
+def _distributions() -> Mapping[str, list[str]]:
+    """Top-level modules -> the installed distributions providing them (read once: the
+    scan of every installed package's metadata takes tens of milliseconds)."""
     try:
-        dists = packages_distributions().get(top) or [top]
+        return packages_distributions()
     except Exception:  # broken metadata must not stop a lookup
-        dists = [top]
-    return dists[0]
+        return {}
 
 
 def _load_entry_points() -> None:
@@ -330,6 +340,7 @@ def describe_rules(pattern: str = "*") -> list[RuleInfo]:
                      cls.param_info(), float(cls.weight), cls.target, cls.surface,
                      bool(cls.bond), bool(cls.hard), cls.start, bool(cls.positional),
                      cls.closeness, cls.opposite, tuple(cls.aliases), cls.feature,
-                     tuple(cls.specialises), cls.fallback)
+                     tuple(cls.specialises), cls.fallback,
+                     _package_of(_describe(_registry[n])))
         )
     return out

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from forcelayout.bindings import Binding
 from forcelayout.forces import ForceModel
 from forcelayout.layout import Layout, Pose
 from forcelayout.validate.checks import check_floors
@@ -179,7 +180,7 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
     return out
 
 
-def _holding(model: ForceModel, pos: np.ndarray, binding) -> list[int]:
+def _holding(model: ForceModel, pos: np.ndarray, binding: Binding) -> list[int]:
     """Rows of the solid floor objects that hold the floor an unmet binding's object wants
     by a door or a window (its rule's start place, within its reach): those not wanted
     there by a rule of their own. A desk kept from the window by a bed that stands under

@@ -172,6 +172,19 @@ def test_primary_object_walled_in_is_unreachable():
     assert of(rep, "collision") == [] and of(rep, "door") == []
 
 
+def test_floors_checked_without_naming_blockers_fail_as_many_checks():
+    from forcelayout.validate import check_floors
+
+    layouts = [walled_in(), crowded(), walled_in(doors=())]
+    named = check_floors(layouts)
+    plain = check_floors(layouts, name_blockers=False)
+    for a, b in zip(named, plain, strict=True):
+        assert len(a.failures) == len(b.failures) and a.ok == b.ok
+        assert a.unreachable == b.unreachable and not b.blocked_by
+        assert [f.split(" (blocked by ")[0] for f in a.failures] == b.failures
+    assert named[0].blocked_by and not any("blocked by" in f for f in plain[0].failures)
+
+
 def test_room_without_door_uses_largest_free_region():
     rep = check_layout(walled_in(doors=()))
     assert rep.unreachable == ["safe"]

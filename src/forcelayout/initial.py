@@ -702,11 +702,15 @@ class Starts:
         else:
             yaws = rng.uniform(-np.pi, np.pi, (m, model.n))
             poss, yaws = yield ProposeRequest(placer, rng, yaws, self.tries, self.spread)
-            verdicts = yield _judging(model, poss, yaws)
+            # judged without naming what blocks the way to an unreachable object (a path
+            # search each): only the chosen one's objects at fault are needed, below
+            verdicts = yield _judging(model, poss, yaws, blockers=False)
             # the first that passes, else the first with the fewest failures, fixed below
             k = next((i for i, v in enumerate(verdicts) if v.passes(self.misses)),
                      int(np.argmin([len(v.failures) for v in verdicts])))
             pos, yaw, verdict = poss[k], yaws[k], verdicts[k]
+            if not verdict.passes(self.misses):
+                verdict = yield _judging(model, pos, yaw)
         for f in range(max(0, self.fixes)):
             if verdict.passes(self.misses) or not verdict.at_fault:
                 break
@@ -733,7 +737,8 @@ def _movers(parent: np.ndarray, rows: np.ndarray, *, with_parents: bool = False
     return rows | np.isin(parent, np.flatnonzero(rows))
 
 
-def _judging(model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> JudgeRequest:
+def _judging(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, *, blockers: bool = True
+             ) -> JudgeRequest:
     """The ask for the verdict on start poses; only the rules where rows are not the plan's
     objects.
 
@@ -742,7 +747,8 @@ def _judging(model: ForceModel, pos: np.ndarray, yaw: np.ndarray) -> JudgeReques
     the room.
     """
     known = set(model.plan.ids)
-    return JudgeRequest(model, pos, yaw, checks=all(oid in known for oid in model.ids))
+    return JudgeRequest(model, pos, yaw, checks=all(oid in known for oid in model.ids),
+                        blockers=blockers)
 
 
 def propose_poses(

@@ -128,14 +128,17 @@ def judge_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
 
 
 def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
-                 check_kwargs: dict | None = None, *, checks: bool = True
-                 ) -> list[FloorVerdict]:
+                 check_kwargs: dict | None = None, *, checks: bool = True,
+                 blockers: bool = True) -> list[FloorVerdict]:
     """:func:`judge_floor` for B arrangements of one model, poses (B, N, 2) and (B, N).
 
     The checks run for all of them at once
     (:func:`forcelayout.validate.checks.check_floors`) and so do the rules (one
     stacked state; a rule that is not ``batched`` once per arrangement); each
     verdict is the one :func:`judge_floor` gives that arrangement alone.
+    ``blockers=False`` leaves out the objects that block the way to an unreachable
+    object (from the failures' text and from ``at_fault``): the same failures, as
+    many, where only their count matters (choosing among starts).
     """
     pos = np.asarray(pos, dtype=float)
     yaw = np.asarray(yaw, dtype=float)
@@ -146,7 +149,7 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
         layouts = [Layout(model.plan, {oid: Pose(float(a[0]), float(a[1]), float(t))
                                        for oid, a, t in zip(model.ids, p, y, strict=True)})
                    for p, y in zip(pos, yaw, strict=True)]
-        reports = check_floors(layouts, **(check_kwargs or {}))
+        reports = check_floors(layouts, name_blockers=blockers, **(check_kwargs or {}))
         for v, report in zip(out, reports, strict=True):
             v.failures += report.failures
             for fail in report.failures:
@@ -242,6 +245,8 @@ class JudgeRequest:
     check_kwargs : dict, optional
     checks : bool
         As for :func:`judge_floor`.
+    blockers : bool
+        As for :func:`judge_floors`.
     """
 
     model: ForceModel
@@ -249,11 +254,12 @@ class JudgeRequest:
     yaw: np.ndarray
     check_kwargs: dict | None = None
     checks: bool = True
+    blockers: bool = True
 
     def key(self) -> tuple:
         """Requests with equal keys are judged as one batch."""
         kw = None if self.check_kwargs is None else tuple(sorted(self.check_kwargs.items()))
-        return (id(self.model), kw, self.checks)
+        return (id(self.model), kw, self.checks, self.blockers)
 
     @staticmethod
     def run(requests: list[JudgeRequest]) -> list[FloorVerdict | list[FloorVerdict]]:
@@ -263,7 +269,8 @@ class JudgeRequest:
         many = [q.pos.ndim == 3 for q in requests]
         pos = np.concatenate([q.pos.reshape(-1, n, 2) for q in requests])
         yaw = np.concatenate([q.yaw.reshape(-1, n) for q in requests])
-        verdicts = judge_floors(first.model, pos, yaw, first.check_kwargs, checks=first.checks)
+        verdicts = judge_floors(first.model, pos, yaw, first.check_kwargs, checks=first.checks,
+                                blockers=first.blockers)
         out: list[FloorVerdict | list[FloorVerdict]] = []
         at = 0
         for q, m in zip(requests, many, strict=True):

@@ -305,13 +305,17 @@ def check_floors(
     access_clearance: bool = False,
     max_access_overlap: float = 0.1,
     access_width: float = 0.6,
+    name_blockers: bool = True,
 ) -> list[CheckReport]:
     """:func:`check_layout` for many layouts, the checks of their floors run together.
 
     Layouts of one plan with the same floor objects share each step of the
     floor checks (one array with a leading layout axis); each report is the
     one :func:`check_layout` gives that layout alone. Parameters as for
-    :func:`check_layout`.
+    :func:`check_layout`; ``name_blockers=False`` leaves out what blocks the
+    way to an unreachable object (``blocked_by`` empty, the failure lines
+    without "blocked by"): the same failures, counted as many, for less
+    (a path search per unreachable object and door).
 
     Returns
     -------
@@ -319,7 +323,8 @@ def check_floors(
         One per layout, in order.
     """
     args = (agent_radius, grid, min_free_fraction, reach, max_overlap, door_clearance,
-            window_clearance, wall_band, access_clearance, max_access_overlap, access_width)
+            window_clearance, wall_band, access_clearance, max_access_overlap, access_width,
+            bool(name_blockers))
     check_parameters(agent_radius=agent_radius, grid=grid, min_free_fraction=min_free_fraction,
                      reach=reach, max_overlap=max_overlap, door_clearance=door_clearance,
                      window_clearance=window_clearance, wall_band=wall_band,
@@ -394,7 +399,7 @@ def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarr
                   min_free_fraction: float, reach: float, max_overlap: float,
                   door_clearance: bool, window_clearance: bool, wall_band: bool,
                   access_clearance: bool, max_access_overlap: float,
-                  access_width: float) -> list[tuple]:
+                  access_width: float, name_blockers: bool = True) -> list[tuple]:
     """Every check of the floor objects alone (all but ``surfaces``) of B floors of
     ``layout``'s plan with the same objects ``ids`` at poses (B, N, 2) and (B, N), checked
     together: per floor, the failures before and after where ``surfaces`` goes, the
@@ -465,7 +470,7 @@ def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarr
             unreachable, blocked_by, reach_fail = _reachable(
                 ids, prim, solid, rows, dist2[m], r2, free[m],
                 None if labels is None else labels[m], rg, agent_radius + reach,
-                None if reached is None else reached[m])
+                None if reached is None else reached[m], name_blockers)
             after += reach_fail
             out.append((before[b], after, free_fraction, navigable_fraction, unreachable,
                         blocked_by, free[m], rg.origin.copy()))
@@ -871,7 +876,7 @@ def _reached_from_doors(labels: np.ndarray, dist2: np.ndarray, seeds: np.ndarray
 
 def _reachable(ids: list[str], prim: list[int], solid: np.ndarray, rows: np.ndarray,
                dist2: np.ndarray, r2: np.float32, free: np.ndarray, labels: np.ndarray | None,
-               rg, near: float, reached: np.ndarray | None = None
+               rg, near: float, reached: np.ndarray | None = None, name: bool = True
                ) -> tuple[list[str], dict[str, list[str]], list[str]]:
     """Whether the agent gets within ``near`` of each primary object (rows ``prim``) from a
     door; ``dist2`` holds the footprint distances of ``rows`` (the obstacles ``solid``
@@ -915,6 +920,10 @@ def _reachable(ids: list[str], prim: list[int], solid: np.ndarray, rows: np.ndar
         if ok.all():
             continue
         unreachable.append(ids[k])
+        if not name:
+            failures += [f"reachable: {ids[k]!r} cannot be reached from {names[d]}"
+                         for d in np.nonzero(~ok)[0]]
+            continue
         if paths is None:
             blocked = dist2[:len(solid)] <= r2  # (S, H, W): cells each obstacle takes
             paths = _PathFinder(rg.floor, free, blocked)

@@ -213,6 +213,15 @@ def test_the_closing_pull_draws_slivers_shut_and_leaves_wider_gaps_alone():
     np.testing.assert_allclose(tau, 0.0)
     f, _ = ClosingTerm(pi, pj, np.ones(3, bool), 0.1, 1.0)(model.state(pos, yaw), 1.0)
     assert not f.any()  # a narrower agent fits through both gaps
+    gaps = fl.rules.physical.wall_gaps(model.state(pos, yaw))  # (N, W): bottom, right, top, left
+    np.testing.assert_allclose(gaps[a], [0.8, 2.35, 1.4, 0.15], atol=1e-9)
+    np.testing.assert_allclose(gaps[c], [0.4, 0.55, 1.8, 1.95], atol=1e-9)
+    ell = ForceModel(fl.Plan.model_validate({
+        "room": {"polygon": [[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]]},
+        "objects": [{"id": "a", "category": "cabinet", "size": [0.8, 0.5, 0.9]}]}))
+    gaps = fl.rules.physical.wall_gaps(ell.state(np.array([[3.0, 0.5]]), np.zeros(1)))[0]
+    assert np.isinf(gaps[[3, 4]]).all()  # the notch's walls are not beside it
+    np.testing.assert_allclose(gaps[[0, 1, 2]], [0.25, 0.6, 1.25], atol=1e-9)
 
 
 def test_a_floor_short_of_free_space_is_resettled_with_its_slivers_closed():
@@ -348,6 +357,8 @@ def test_objects_holding_the_floor_a_rule_wants_by_a_window_are_at_fault_with_it
           "armchair": ((3.1, 3.7), np.pi), "wardrobe": ((0.3, 1.6), -np.pi / 2)}
     pos = np.array([at[i][0] for i in model.ids])
     yaw = np.array([at[i][1] for i in model.ids])
+    assert model.wanted_at("window").tolist() == [k in ("desk", "armchair") for k in model.ids]
+    assert not model.wanted_at("door").any()
     v = judge_floor(model, pos, yaw)
     assert "near_window(desk)" in v.failures
     assert {model.ids[r] for r in v.at_fault} == {"desk", "bed"}

@@ -369,7 +369,7 @@ class ForceModel:
             self.rules,
             PassageTerm(self.pi[free], self.pj[free], self.physical_weights),
             PhysicalTerm(self.pi[free], self.pj[free], self.physical_weights, ~self.walkable,
-                         self.held, entry=~self._by_a_door()),
+                         self.held, entry=~self.wanted_at("door")),
         ]
         if self.room is self.compiled.room and self.plan.room.windows and w_window > 0:
             self.terms.append(self._window_term(w_window))
@@ -382,13 +382,17 @@ class ForceModel:
             self.add_term(t)
         self._stacks: dict[tuple[int, ...], StackedForces] = {}
 
-    def _by_a_door(self) -> np.ndarray:
-        """Rows a binding wants by a door (its rule's start place is ``"door"``, as
-        ``near_door``'s): the door's entry zone does not push them off their spot beside
-        its swing square."""
+    def wanted_at(self, place: str) -> np.ndarray:
+        """Rows a binding wants at ``place``, its rule's start place (``"door"`` for
+        ``near_door``, ``"window"`` for ``near_window``, ``"wall"``, ...), shape (N,) bool.
+
+        The door's entry zone does not push the rows wanted by a door off their
+        spot beside its swing square; an unmet ``near_window`` does not blame
+        the rows wanted by a window for standing there.
+        """
         out = np.zeros(len(self.ids), dtype=bool)
         for g in self.groups:
-            if g.rule.start is not None and g.rule.start.place == "door":
+            if g.rule.start is not None and g.rule.start.place == place:
                 out[g.i] = True
         return out
 

@@ -177,12 +177,12 @@ def repair_task(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, config: Sol
         idle = 0
         moved = ", ".join(model.ids[r] for r in np.flatnonzero(movers))
         more = ""
-        if len(after.failures) >= len(verdict.failures):  # traded for unmet rules
-            unmet = ", ".join(sorted(set(after.failures) - set(verdict.failures)))
-            more = f" (left unmet, as the sample allows: {unmet})"
         if len(after.failures) == len(verdict.failures) and \
                 after.rejecting(misses) == verdict.rejecting(misses):
             more = f" ({verdict.free:.0%} -> {after.free:.0%} of the floor free)"
+        elif len(after.failures) >= len(verdict.failures):  # traded for unmet rules
+            unmet = ", ".join(sorted(set(after.failures) - set(verdict.failures)))
+            more = f" (left unmet, as the sample allows: {unmet})"
         notes.append(f"{how} {moved}: {len(verdict.failures)} -> {len(after.failures)} "
                      f"failures{more}")
         pos, yaw, verdict = res.pos, res.yaw, after

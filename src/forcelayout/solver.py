@@ -133,11 +133,14 @@ def _at_rest(model: ForceModel, state: State, f: np.ndarray, tau: np.ndarray,
         return False
     if not model.room.contains(state.corners.reshape(-1, 2)).all():
         return False
-    if not obstacles:
-        return True
-    bodies = shapely.polygons(state.corners)
-    walls = np.array([shapely.Polygon(np.asarray(o, dtype=float)) for o in obstacles])
-    return not (shapely.area(shapely.intersection(bodies[:, None], walls[None])) > 1e-9).any()
+    return not obstacles or not _overlapping(state.corners, obstacles).any()
+
+
+def _overlapping(corners: np.ndarray, polygons: list[np.ndarray]) -> np.ndarray:
+    """Whether each footprint (corners (M, 4, 2)) overlaps each convex polygon, (M, K)."""
+    bodies = shapely.polygons(corners)
+    walls = np.array([shapely.Polygon(np.asarray(p, dtype=float)) for p in polygons])
+    return shapely.area(shapely.intersection(bodies[:, None], walls[None])) > 1e-9
 
 
 def _clear_keep_out(model: ForceModel, pos: np.ndarray, yaw: np.ndarray
@@ -153,13 +156,11 @@ def _clear_keep_out(model: ForceModel, pos: np.ndarray, yaw: np.ndarray
     if not solid.any():
         return [list(model.keep_out) for _ in range(count)]
     half = model.size[solid, :2] * 0.5
-    bodies = shapely.polygons(box_corners(pos[:, solid].reshape(-1, 2), yaw[:, solid].reshape(-1),
-                                          np.tile(half, (count, 1))))
-    zones = shapely.polygons(np.asarray(model.keep_out, dtype=float))
-    hit = shapely.area(shapely.intersection(bodies[:, None], zones[None])) > 1e-9
-    hit = hit.reshape(count, -1, len(zones)).any(axis=1)  # (B, K)
-    return [[model.keep_out[k] for k in range(len(zones)) if not hit[b, k]]
-            for b in range(count)]
+    corners = box_corners(pos[:, solid].reshape(-1, 2), yaw[:, solid].reshape(-1),
+                          np.tile(half, (count, 1)))
+    zones = len(model.keep_out)
+    hit = _overlapping(corners, model.keep_out).reshape(count, -1, zones).any(axis=1)  # (B, K)
+    return [[model.keep_out[k] for k in range(zones) if not hit[b, k]] for b in range(count)]
 
 
 def _add(terms: Sequence[ForceTerm], state: State, temperature: float, annealed: bool,

@@ -16,6 +16,7 @@ import numpy as np
 from forcelayout.bindings import Binding
 from forcelayout.forces import ForceModel
 from forcelayout.layout import Layout, Pose
+from forcelayout.rules.physical import wall_gaps
 from forcelayout.validate.checks import check_floors
 
 __all__ = ["FloorVerdict", "JudgeRequest", "judge_floor", "judge_floors", "allowed_misses"]
@@ -197,11 +198,9 @@ def _holding(model: ForceModel, pos: np.ndarray, binding: Binding) -> list[int]:
     if not len(centres):
         return []
     reach = float(getattr(binding.params, hint.reach))
-    there = {model.ids.index(b.object) for b in model.bindings
-             if b.rule.start is not None and b.rule.start.place == hint.place}
     solid = ~np.asarray(model.walkable, dtype=bool)
     near = np.linalg.norm(pos[:, None] - centres[None], axis=2).min(axis=1) < reach
-    return [r for r in np.flatnonzero(near & solid).tolist() if r not in there]
+    return np.flatnonzero(near & solid & ~model.wanted_at(hint.place)).tolist()
 
 
 def _slivers(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, radius: float
@@ -214,12 +213,7 @@ def _slivers(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, radius: float
     solid = ~np.asarray(model.walkable, dtype=bool)
     if solid.sum() == 0:
         return []
-    room = st.room
-    corners = st.corners  # (N, 4, 2)
-    s = np.einsum("nkd,wd->nkw", corners, room.normal) - room.normal_offset  # (N, 4, W)
-    t = st.pos @ room.tangent.T - room.tangent_offset  # (N, W): along each wall
-    facing = (t > 0.0) & (t < room.length)  # the wall lies beside the object
-    wall_gap = np.where(facing, s.min(axis=1), np.inf)  # (N, W)
+    wall_gap = wall_gaps(st)  # (N, W)
     sep = st.separations.copy()
     np.fill_diagonal(sep, np.inf)
     sep[:, ~solid] = np.inf

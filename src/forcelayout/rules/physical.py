@@ -18,7 +18,7 @@ from forcelayout import geometry as geo
 from forcelayout.rules.base import State
 
 __all__ = ["PhysicalWeights", "repulsion", "boundary", "alignment", "door_clearance", "physical",
-           "closing", "SWING_MARGIN"]
+           "closing", "wall_gaps", "SWING_MARGIN"]
 
 _EPS = 1e-3
 
@@ -251,13 +251,23 @@ def closing(state: State, pi: np.ndarray, pj: np.ndarray, solid: np.ndarray, rad
             u = d / np.maximum(np.sqrt((d * d).sum(1)), 1e-9)[:, None] * strength
             np.add.at(f, a, u)
             np.add.at(f, b, -u)
-    room = state.room
-    s = np.einsum("nkd,wd->nkw", state.corners, room.normal) - room.normal_offset
-    t = state.pos @ room.tangent.T - room.tangent_offset
-    gap = np.where((t > 0.0) & (t < room.length), s.min(axis=1), np.inf)  # (N, W)
+    gap = wall_gaps(state)
     near = (gap > touching) & (gap < radius) & solid[:, None]
-    f -= (near.astype(float) @ room.normal) * strength
+    f -= (near.astype(float) @ state.room.normal) * strength
     return f, np.zeros(n)
+
+
+def wall_gaps(state: State) -> np.ndarray:
+    """Clearance from each footprint to each wall beside it, shape (N, W), metres.
+
+    The smallest distance of the footprint's corners from the wall's line
+    (inward positive) where the footprint's centre lies along the wall,
+    ``inf`` where it does not (the wall is not beside the object).
+    """
+    room = state.room
+    s = np.einsum("nkd,wd->nkw", state.corners, room.normal) - room.normal_offset  # (N, 4, W)
+    t = state.pos @ room.tangent.T - room.tangent_offset  # (N, W): along each wall
+    return np.where((t > 0.0) & (t < room.length), s.min(axis=1), np.inf)
 
 
 def physical(

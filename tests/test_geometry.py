@@ -105,7 +105,8 @@ def test_compiled_kernels_equal_the_numpy_forms_bit_for_bit(boxes, others):
 
 
 def test_the_compiled_kernels_switch_off_and_layouts_do_not_change():
-    """FORCELAYOUT_COMPILED=0 runs the numpy forms; the layouts are the same bit for bit."""
+    """FORCELAYOUT_COMPILED=0 runs the numpy forms; the layouts are the same bit for bit (on
+    a rectangular floor and an L-shaped one)."""
     import json
     import os
     import subprocess
@@ -113,7 +114,8 @@ def test_the_compiled_kernels_switch_off_and_layouts_do_not_change():
 
     pytest.importorskip("numba")
     code = ("import json, forcelayout as fl; from forcelayout import _compiled;"
-            "ls = fl.sampling.solve_many(fl.load_plan('living_room'), [1, 2, 3]);"
+            "ls = [l for p in ('living_room', 'l_shaped_studio')"
+            " for l in fl.sampling.solve_many(fl.load_plan(p), [1, 2, 3])];"
             "print(json.dumps([_compiled.kernels() is not None,"
             " [l.to_dict()['objects'] for l in ls]]))")
     out = {}
@@ -155,6 +157,42 @@ def test_contains_boxes_takes_a_box_as_wide_as_the_room_and_no_box_a_wall_crosse
                       box(-0.1, 1.0, 1.0, 2.0)])  # through a wall
     assert u_room.contains_boxes(boxes).tolist() == [True, True, False, True, False]
     assert u_room.contains_boxes(boxes[None]).shape == (1, 5)
+
+
+_FLOORS = [np.array(p, dtype=float) for p in (
+    [[0, 0], [6, 0], [6, 4.8], [3.8, 4.8], [3.8, 3.6], [2.2, 3.6], [2.2, 4.8], [0, 4.8]],
+    [[0, 0], [5, 0], [5, 3], [2.5, 3], [2.5, 5.5], [0, 5.5]],
+    [[0, 0], [4, 0], [4.5, 2.0], [2.0, 3.5], [0, 3.0]])]
+# footprints on a 5 cm grid at square turns: many touch a wall or a corner exactly
+snapped = st.tuples(st.integers(-10, 130), st.integers(-10, 120), st.integers(-2, 2),
+                    st.integers(1, 40), st.integers(1, 40))
+
+
+@settings(max_examples=150, deadline=None)
+@given(floor=st.sampled_from(range(len(_FLOORS))),
+       boxes=st.lists(st.one_of(box, snapped), min_size=1, max_size=8))
+def test_contains_boxes_is_shapely_contains_but_for_touching_within_a_nanometre(floor, boxes):
+    """On L- and U-shaped and slanted floors: the numpy form and the compiled kernel (with
+    forcelayout[fast]) agree exactly, and both with ``shapely.contains`` except for a
+    footprint that crosses a wall by at most 1e-9 m."""
+    from forcelayout import _compiled
+    from forcelayout import geometry as geo
+
+    room = RoomGeometry(_FLOORS[floor])
+    c = np.stack([_corners(b) if isinstance(b[0], float)
+                  else _corners((0.05 * b[0], 0.05 * b[1], 0.5 * np.pi * b[2], 0.025 * b[3],
+                                 0.025 * b[4])) for b in boxes])
+    want = geo._contains_boxes(c, room.a, room.b, room.normal)
+    assert np.array_equal(room.contains_boxes(c), want)
+    fast = _compiled.kernels()
+    if fast is not None:
+        assert np.array_equal(fast.contains_boxes(c[None], room.a, room.b, room.normal),
+                              want[None])
+    polys = shapely.polygons(c)
+    exact = shapely.contains(room.shape, polys)
+    for k in np.flatnonzero(exact != want):
+        assert shapely.area(shapely.difference(polys[k], room.shape)) < 1e-8
+        assert shapely.distance(shapely.boundary(room.shape), polys[k]) < 1e-8
 
 
 @given(st.floats(-np.pi + 1e-6, np.pi, allow_nan=False))

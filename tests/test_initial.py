@@ -503,7 +503,7 @@ def test_a_rectangular_floor_holds_a_candidate_exactly_when_shapely_says_so(seed
                                   np.zeros((3, 1)), False)
     hr, hf = rgt * ext[0], fwd * ext[1]
     corners = np.stack([cand - hr - hf, cand + hr - hf, cand + hr + hf, cand - hr + hf], 2)
-    exact = shapely.contains(placer.floor, shapely.polygons(corners.reshape(-1, 4, 2)))
+    exact = shapely.contains(placer.room.shape, shapely.polygons(corners.reshape(-1, 4, 2)))
     assert np.array_equal(inside, exact.reshape(3, 40))
 
 

@@ -2,8 +2,11 @@
 
 ``pip install "forcelayout[fast]"`` adds numba; :mod:`forcelayout.geometry`
 then computes :func:`~forcelayout.geometry.obb_separation` and
-:func:`~forcelayout.geometry.obb_gap` with the numba generalised ufuncs
-below instead of a few dozen numpy operations on temporaries, and
+:func:`~forcelayout.geometry.obb_gap` (and whether footprints lie on a
+floor that is not a rectangle,
+:meth:`~forcelayout.geometry.RoomGeometry.contains_boxes`) with the numba
+generalised ufuncs below instead of a few dozen numpy operations on
+temporaries, and
 :mod:`forcelayout.validate` the distance of every free-floor grid cell to
 every footprint with a compiled loop. The ufuncs broadcast like the numpy
 forms; every kernel does the same floating-point operations in the same
@@ -37,7 +40,8 @@ _LOADED: list[Any] = []  # [namespace of kernels, or None when numba is absent o
 
 
 def kernels() -> SimpleNamespace | None:
-    """The compiled kernels (``obb_separation``, ``obb_gap``, ``footprint_dist2``), or None
+    """The compiled kernels (``obb_separation``, ``obb_gap``, ``footprint_dist2``,
+    ``contains_boxes``), or None
     without numba.
 
     Compiled (or loaded from numba's cache) on the first call in a process.
@@ -50,7 +54,7 @@ def kernels() -> SimpleNamespace | None:
 
 def _compile(*, required: bool) -> SimpleNamespace | None:
     try:
-        from numba import float32, float64, guvectorize, njit
+        from numba import boolean, float32, float64, guvectorize, njit
     except ImportError:
         if required:
             from forcelayout._optional import import_optional
@@ -129,5 +133,48 @@ def _compile(*, required: bool) -> SimpleNamespace | None:
                     out[n, h, w] = qx * qx + qy * qy
         return out
 
+    m = float64[:, :]
+
+    @guvectorize([(m, m, m, m, boolean[:])], "(k,t),(w,t),(w,t),(w,t)->()", nopython=True,
+                 cache=True)
+    def contains_boxes(c, a, b, normal, out):  # pragma: no cover - compiled
+        # geometry._contains_boxes, one rectangle at a time, operation for operation
+        cx = (((c[0, 0] + c[1, 0]) + c[2, 0]) + c[3, 0]) / 4.0
+        cy = (((c[0, 1] + c[1, 1]) + c[2, 1]) + c[3, 1]) / 4.0
+        axx, axy = c[1, 0] - c[0, 0], c[1, 1] - c[0, 1]
+        ayx, ayy = c[3, 0] - c[0, 0], c[3, 1] - c[0, 1]
+        lx = math.sqrt(axx * axx + axy * axy)
+        ly = math.sqrt(ayx * ayx + ayy * ayy)
+        hx, hy = 0.5 * lx, 0.5 * ly
+        uxx, uxy = axx / max(lx, 1e-12), axy / max(lx, 1e-12)
+        uyx, uyy = ayx / max(ly, 1e-12), ayy / max(ly, 1e-12)
+        tx, ty = max(hx - 1e-9, 0.0), max(hy - 1e-9, 0.0)
+        n_wall = a.shape[0]
+        inside = True
+        for k in range(4):
+            sx = -1.0 if k == 0 or k == 3 else 1.0
+            sy = -1.0 if k < 2 else 1.0
+            x = (cx + (sx * tx) * uxx) + (sy * ty) * uyx
+            y = (cy + (sx * tx) * uxy) + (sy * ty) * uyy
+            odd = False
+            for w in range(n_wall):
+                if (a[w, 1] > y) != (b[w, 1] > y):
+                    if x < a[w, 0] + (y - a[w, 1]) * (b[w, 0] - a[w, 0]) / (b[w, 1] - a[w, 1]):
+                        odd = not odd
+            inside = inside and odd
+        crossed = False
+        for w in range(n_wall):
+            dax, day = a[w, 0] - cx, a[w, 1] - cy
+            dbx, dby = b[w, 0] - cx, b[w, 1] - cy
+            pa, pb = dax * uxx + day * uxy, dbx * uxx + dby * uxy
+            hit = (max(pa, pb) > -hx + 1e-9) and (min(pa, pb) < hx - 1e-9)
+            pa, pb = dax * uyx + day * uyy, dbx * uyx + dby * uyy
+            hit = hit and (max(pa, pb) > -hy + 1e-9) and (min(pa, pb) < hy - 1e-9)
+            nx, ny = normal[w, 0], normal[w, 1]
+            off = abs(dax * nx + day * ny)
+            reach = hx * abs(uxx * nx + uxy * ny) + hy * abs(uyx * nx + uyy * ny)
+            crossed = crossed or (hit and off < reach - 1e-9)
+        out[0] = inside and not crossed
+
     return SimpleNamespace(obb_separation=obb_separation, obb_gap=obb_gap,
-                           footprint_dist2=footprint_dist2)
+                           footprint_dist2=footprint_dist2, contains_boxes=contains_boxes)

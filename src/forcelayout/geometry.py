@@ -490,6 +490,51 @@ class Openings:
 _ROOMS: dict[int, tuple[Room, RoomGeometry]] = {}
 
 
+def _contains_boxes(c: np.ndarray, a: np.ndarray, b: np.ndarray,
+                    normal: np.ndarray) -> np.ndarray:
+    """:meth:`RoomGeometry.contains_boxes` in numpy, on rectangles (..., 4, 2) and the walls
+    from ``a`` to ``b`` (W, 2) with their inward ``normal`` (each product and sum written
+    out, in the order the compiled kernel does them)."""
+    p0, p1, p2, p3 = c[..., 0, :], c[..., 1, :], c[..., 2, :], c[..., 3, :]
+    cx = (((p0[..., 0] + p1[..., 0]) + p2[..., 0]) + p3[..., 0]) / 4.0
+    cy = (((p0[..., 1] + p1[..., 1]) + p2[..., 1]) + p3[..., 1]) / 4.0
+    axx, axy = p1[..., 0] - p0[..., 0], p1[..., 1] - p0[..., 1]
+    ayx, ayy = p3[..., 0] - p0[..., 0], p3[..., 1] - p0[..., 1]
+    lx = np.sqrt(axx * axx + axy * axy)
+    ly = np.sqrt(ayx * ayx + ayy * ayy)
+    hx, hy = 0.5 * lx, 0.5 * ly
+    uxx, uxy = axx / np.maximum(lx, 1e-12), axy / np.maximum(lx, 1e-12)  # unit axes
+    uyx, uyy = ayx / np.maximum(ly, 1e-12), ayy / np.maximum(ly, 1e-12)
+    # the corners drawn in by 1e-9 m: a rectangle that touches the walls from inside (as
+    # wide as the room) has them on the floor; even-odd rule against every wall
+    tx, ty = np.maximum(hx - 1e-9, 0.0), np.maximum(hy - 1e-9, 0.0)
+    ax_, ay_, bx_, by_ = a[:, 0], a[:, 1], b[:, 0], b[:, 1]
+    inside = np.ones(c.shape[:-2], dtype=bool)
+    for sx, sy in ((-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)):
+        x = ((cx + (sx * tx) * uxx) + (sy * ty) * uyx)[..., None]
+        y = ((cy + (sx * tx) * uxy) + (sy * ty) * uyy)[..., None]
+        crosses = (ay_ > y) != (by_ > y)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xint = ax_ + (y - ay_) * (bx_ - ax_) / (by_ - ay_)
+        inside &= (np.sum(crosses & (x < xint), axis=-1) % 2) == 1
+    # separating axes of a wall segment and a rectangle: the rectangle's two axes and the
+    # wall's normal; a wall crosses a rectangle where none of them separates
+    dax, day = ax_ - cx[..., None], ay_ - cy[..., None]  # (..., W)
+    dbx, dby = bx_ - cx[..., None], by_ - cy[..., None]
+    crossed = np.ones(dax.shape, dtype=bool)
+    for ux, uy, h in ((uxx, uxy, hx), (uyx, uyy, hy)):
+        ux, uy, h = ux[..., None], uy[..., None], h[..., None]
+        pa = dax * ux + day * uy
+        pb = dbx * ux + dby * uy
+        crossed &= (np.maximum(pa, pb) > -h + 1e-9) & (np.minimum(pa, pb) < h - 1e-9)
+    nx, ny = normal[:, 0], normal[:, 1]
+    off = np.abs(dax * nx + day * ny)  # the centre from each wall's line
+    reach = (hx[..., None] * np.abs(uxx[..., None] * nx + uxy[..., None] * ny)
+             + hy[..., None] * np.abs(uyx[..., None] * nx + uyy[..., None] * ny))
+    crossed &= off < reach - 1e-9
+    return inside & ~crossed.any(-1)
+
+
 class RoomGeometry:
     """A room's floor polygon, walls and openings as numpy arrays.
 
@@ -663,37 +708,17 @@ class RoomGeometry:
         inside it, or a wall right across it: a bench over the notch of a
         U-shaped room has every corner on the floor); walls that only touch
         it do not (within 1e-9 m), as for ``shapely.contains``.
+
+        Notes
+        -----
+        With numba installed (``forcelayout[fast]``) a compiled kernel computes
+        it, the same for finite inputs (:mod:`forcelayout._compiled`).
         """
         c = np.asarray(corners, dtype=float)
-        centre = c.mean(-2)
-        ax = c[..., 1, :] - c[..., 0, :]
-        ay = c[..., 3, :] - c[..., 0, :]
-        hx = 0.5 * np.linalg.norm(ax, axis=-1)[..., None]  # (..., 1)
-        hy = 0.5 * np.linalg.norm(ay, axis=-1)[..., None]
-        ux = ax / np.maximum(2 * hx, 1e-12)  # unit axes of each rectangle
-        uy = ay / np.maximum(2 * hy, 1e-12)
-        # the corners drawn in by 1e-9 m: a rectangle that touches the walls from inside
-        # (as wide as the room) has them on the floor
-        sx = (c - centre[..., None, :]) @ ux[..., :, None] > 0  # (..., 4, 1)
-        sy = (c - centre[..., None, :]) @ uy[..., :, None] > 0
-        tx = np.maximum(hx - 1e-9, 0.0)[..., None, :] * np.where(sx, 1.0, -1.0)
-        ty = np.maximum(hy - 1e-9, 0.0)[..., None, :] * np.where(sy, 1.0, -1.0)
-        inside = self.contains(centre[..., None, :] + tx * ux[..., None, :]
-                               + ty * uy[..., None, :]).all(-1)
-        # separating axes of a wall segment and a rectangle: the rectangle's two axes and
-        # the wall's normal; a wall crosses a rectangle where none of them separates
-        da = self.a - centre[..., None, :]  # (..., W, 2)
-        db = self.b - centre[..., None, :]
-
-        def overlaps(u: np.ndarray, h: np.ndarray) -> np.ndarray:  # along a rectangle axis
-            pa = (da * u[..., None, :]).sum(-1)
-            pb = (db * u[..., None, :]).sum(-1)
-            return (np.maximum(pa, pb) > -h + 1e-9) & (np.minimum(pa, pb) < h - 1e-9)
-
-        off = np.abs((da * self.normal).sum(-1))  # the centre from each wall's line
-        reach = hx * np.abs(ux @ self.normal.T) + hy * np.abs(uy @ self.normal.T)
-        crossed = (overlaps(ux, hx) & overlaps(uy, hy) & (off < reach - 1e-9)).any(-1)
-        return inside & ~crossed
+        fast = kernels()
+        if fast is not None:
+            return fast.contains_boxes(c, self.a, self.b, self.normal)
+        return _contains_boxes(c, self.a, self.b, self.normal)
 
     def contains(self, points: np.ndarray) -> np.ndarray:
         """Whether points lie inside the floor polygon (even-odd rule), shape (...)."""

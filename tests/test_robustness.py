@@ -364,7 +364,7 @@ def test_objects_holding_the_floor_a_rule_wants_by_a_window_are_at_fault_with_it
     assert {model.ids[r] for r in v.at_fault} == {"desk", "bed"}
 
 
-def test_a_crowded_plan_accepts_more_samples_with_more_start_rounds():
+def test_a_crowded_plan_accepts_more_samples_with_more_start_rounds_and_attempts():
     from pathlib import Path
 
     from forcelayout.sampling import sample_seed, solve_many
@@ -372,8 +372,19 @@ def test_a_crowded_plan_accepts_more_samples_with_more_start_rounds():
     plan = fl.load_plan(Path(__file__).parents[1] / "benchmarks" / "plans"
                         / "dorm_room_double_crowded.json")  # 44 % of the floor furnished
     seeds = [sample_seed(0, k) for k in range(12)]
-    few = sum(lay.report.valid for lay in solve_many(plan, seeds, starts=1))
-    many = sum(lay.report.valid for lay in solve_many(plan, seeds))
-    assert many >= few + 3
+    few = sum(lay.report.valid for lay in solve_many(plan, seeds, starts=1, attempts=1))
+    once = solve_many(plan, seeds, attempts=1)
+    assert sum(lay.report.valid for lay in once) >= few + 3
     with pytest.raises(ValueError, match="Options.starts"):
         fl.Options(starts=0)
+    # a floor that still fails after its repairs starts over (Options.attempts, default 2)
+    twice = solve_many(plan, seeds)
+    assert sum(lay.report.valid for lay in twice) > sum(lay.report.valid for lay in once)
+    over = [lay for lay in twice if any(n.startswith("started over (2 of 2)")
+                                        for n in lay.report.repairs)]
+    assert any(lay.report.valid for lay in over)
+    for a, b in zip(once, twice, strict=True):  # a floor that passed did not start over
+        if a.report.valid:
+            assert a.to_dict()["objects"] == b.to_dict()["objects"]
+    with pytest.raises(ValueError, match="Options.attempts"):
+        fl.Options(attempts=0)

@@ -133,6 +133,12 @@ class Options:
         against 32 took 60 plans of the benchmark suite from 1,837 to 1,875 of
         1,920 samples accepted for 47 % more time (the L-shaped hotel room 10
         -> 23 of 32, the L-shaped living room with two doors 18 -> 24).
+    attempts : int
+        Times a sample's floor is tried at most (default 2): where the floor of
+        the start nearest passing still fails its checks or rules after its
+        repair rounds, the sample starts over with new starts (up to
+        ``starts`` again), and keeps the better floor of its attempts. The
+        report's repairs say "started over" for a layout a later attempt made.
     variants : int
         Variants generated per functional area on the hierarchical path.
     variant_seed : int
@@ -155,6 +161,7 @@ class Options:
     hierarchy: bool = False
     repair: int = 6
     starts: int = 96
+    attempts: int = 2
     variants: int = 6
     variant_seed: int = 0
     batch: int = 64
@@ -168,6 +175,10 @@ class Options:
                 or self.starts < 1:
             raise ValueError(f"Options.starts must be a whole number >= 1 (start rounds a "
                              f"sample may draw), got {self.starts!r}")
+        if isinstance(self.attempts, bool) or not isinstance(self.attempts, Integral) \
+                or self.attempts < 1:
+            raise ValueError(f"Options.attempts must be a whole number >= 1 (times a sample's "
+                             f"floor is tried), got {self.attempts!r}")
         if self.check_kwargs is None:
             object.__setattr__(self, "check_kwargs", {})
         elif not isinstance(self.check_kwargs, Mapping):

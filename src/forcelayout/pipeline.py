@@ -169,12 +169,35 @@ class _Models:
 def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Models
                 ) -> SampleTask[tuple[dict[str, Pose], int, bool, list[str]]]:
     model = models.full
-    settle = opts.solver.settle_steps > 0 and opts.relations and model.n > 0
     # a start may leave unmet as many bindings as the sample's acceptance allows, but
     # never more than the default acceptance does: a run that accepts any sample
     # (min_rule_satisfaction=0) still gets starts that meet its rules
     misses = allowed_misses(len(model.compiled.bindings),
                             max(opts.min_rule_satisfaction, START_RULE_SATISFACTION))
+    steps, best = 0, None
+    for attempt in range(opts.attempts):
+        res, notes, verdict = yield from _floor_attempt(model, rng, opts, models, misses)
+        steps += res.steps
+        if attempt:  # the report says which attempt made the layout
+            notes = [f"started over ({attempt + 1} of {opts.attempts})", *notes]
+        if best is None or verdict is None or verdict.better_than(best[2], misses):
+            best = (res, notes, verdict)
+        if verdict is None or verdict.passes(misses):
+            break
+    res, notes, _ = best
+    poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
+             for oid, p, y in zip(model.ids, res.pos, res.yaw, strict=True)}
+    return poses, steps, res.converged, notes
+
+
+def _floor_attempt(model: ForceModel, rng: np.random.Generator, opts: Options,
+                   models: _Models, misses: int
+                   ) -> SampleTask[tuple[SimulationResult, list[str], object]]:
+    """One attempt at a sample's floor: starts drawn until one passes and settles, else the
+    full simulation of the start nearest passing, then its repair rounds. Returns the
+    result (its poses, steps and whether it converged), the repair notes and the floor's
+    verdict (None where a start passed and settled, and where no attempt follows)."""
+    settle = opts.solver.settle_steps > 0 and opts.relations and model.n > 0
     steps, settled, start, fewest, tried = 0, None, None, np.inf, 0
     starts = Starts(model, rng, placer=models.placer, misses=misses, ahead=START_AHEAD,
                     restarts=opts.starts)
@@ -198,25 +221,24 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Mo
         tried += 1
         if tried >= SETTLE_STARTS:
             break
+    if settled is not None:
+        return replace(settled, steps=steps), [], None
     repairs: list[str] = []
-    if settled is None:
-        res = yield SimRequest(model, start[0], start[1], opts.solver)
-        steps += res.steps
-        pos, yaw = res.pos, res.yaw
-        if opts.repair > 0 and model.n:
-            pos, yaw, extra, repairs = yield from repair_task(
-                model, pos, yaw, opts.solver, rounds=opts.repair,
-                check_kwargs=opts.check_kwargs, rng=rng, placer=models.placer,
-                walking=models.repairing(), misses=misses,
-                closer=models.closing(float(opts.check_kwargs.get("agent_radius", 0.2))))
-            steps += extra
-            yaw = (yaw + np.pi) % (2 * np.pi) - np.pi
-    else:
-        res = settled
-        pos, yaw = res.pos, res.yaw
-    poses = {oid: Pose(float(p[0]), float(p[1]), float(y))
-             for oid, p, y in zip(model.ids, pos, yaw, strict=True)}
-    return poses, steps, res.converged, repairs
+    res = yield SimRequest(model, start[0], start[1], opts.solver)
+    steps += res.steps
+    pos, yaw = res.pos, res.yaw
+    if opts.repair > 0 and model.n:
+        pos, yaw, extra, repairs = yield from repair_task(
+            model, pos, yaw, opts.solver, rounds=opts.repair,
+            check_kwargs=opts.check_kwargs, rng=rng, placer=models.placer,
+            walking=models.repairing(), misses=misses,
+            closer=models.closing(float(opts.check_kwargs.get("agent_radius", 0.2))))
+        steps += extra
+        yaw = (yaw + np.pi) % (2 * np.pi) - np.pi
+    verdict = None
+    if opts.attempts > 1 and model.n:  # whether to start over
+        verdict = yield JudgeRequest(model, pos, yaw, opts.check_kwargs)
+    return replace(res, pos=pos, yaw=yaw, steps=steps), repairs, verdict
 
 
 def realise(plan: Plan, rng: np.random.Generator, opts: Options) -> Placement:

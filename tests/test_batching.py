@@ -255,6 +255,14 @@ def test_floors_judged_together_get_the_verdicts_they_get_alone(plugin):
             [(v.failures, v.at_fault, v.missed) for v in alone]
         assert sum(v.unmet for v in alone) > 0 and sum(not v.ok for v in alone) > 1
         assert any(v.missed != alone[0].missed for v in alone)
+        # judged without naming what blocks the way: the same verdicts but for that
+        plain = judge_floors(model, pos, yaw, blockers=False)
+        for a, b in zip(together, plain, strict=True):
+            assert [f.split(" (blocked by ")[0] for f in a.failures] == b.failures
+            assert (a.missed, a.free) == (b.missed, b.free)
+            assert a.passes(1) == b.passes(1) and a.rejecting(1) == b.rejecting(1)
+            if not any(f.startswith("reachable:") for f in a.failures):
+                assert a.at_fault == b.at_fault
     finally:
         unregister("lonely_test")
 

@@ -185,6 +185,27 @@ def test_floors_checked_without_naming_blockers_fail_as_many_checks():
     assert named[0].blocked_by and not any("blocked by" in f for f in plain[0].failures)
 
 
+def test_a_floor_verdict_without_blockers_is_the_same_but_for_their_names():
+    """``judge_floors(blockers=False)``, as starts and repair rounds are first judged: the
+    same failures but for what blocks the way, the same unmet bindings and free floor."""
+    from forcelayout.forces import ForceModel
+    from forcelayout.verdict import judge_floors
+
+    lay = walled_in()
+    model = ForceModel(lay.plan)
+    pos = np.array([[[lay.poses[k].x, lay.poses[k].y] for k in model.ids]])
+    yaw = np.array([[lay.poses[k].yaw for k in model.ids]])
+    [named] = judge_floors(model, pos, yaw)
+    [plain] = judge_floors(model, pos, yaw, blockers=False)
+    assert any("(blocked by " in f for f in named.failures)
+    assert [f.split(" (blocked by ")[0] for f in named.failures] == plain.failures
+    assert (named.missed, named.free) == (plain.missed, plain.free)
+    assert named.rejecting() == plain.rejecting() and not plain.passes()
+    # the blockers named are at fault only where they are named
+    shelves = {model.ids.index("shelf_a"), model.ids.index("shelf_b")}
+    assert named.at_fault & shelves and not plain.at_fault & shelves
+
+
 def test_room_without_door_uses_largest_free_region():
     rep = check_layout(walled_in(doors=()))
     assert rep.unreachable == ["safe"]

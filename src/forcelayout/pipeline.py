@@ -236,8 +236,9 @@ def _floor_attempt(model: ForceModel, rng: np.random.Generator, opts: Options,
         steps += extra
         yaw = (yaw + np.pi) % (2 * np.pi) - np.pi
     verdict = None
-    if opts.attempts > 1 and model.n:  # whether to start over
-        verdict = yield JudgeRequest(model, pos, yaw, opts.check_kwargs)
+    if opts.attempts > 1 and model.n:  # whether to start over, and which attempt is nearer
+        # passing (neither asks what blocks the way to an unreachable object)
+        verdict = yield JudgeRequest(model, pos, yaw, opts.check_kwargs, blockers=False)
     return replace(res, pos=pos, yaw=yaw, steps=steps), repairs, verdict
 
 

@@ -125,7 +125,8 @@ class Options:
     repair : int
         Repair rounds for a floor that fails a check or a rule: only the
         objects at fault move, in a short simulation (see
-        :mod:`forcelayout.repair`); 0 rejects such samples at once.
+        :mod:`forcelayout.repair`); 0 runs none (with ``floor_attempts=1`` too,
+        such samples are rejected at once).
     starts : int
         Most start rounds a sample's floor draws (:class:`forcelayout.initial.Starts`)
         before it simulates the one nearest passing (default 96). A start that
@@ -133,7 +134,7 @@ class Options:
         against 32 took 60 plans of the benchmark suite from 1,837 to 1,875 of
         1,920 samples accepted for 47 % more time (the L-shaped hotel room 10
         -> 23 of 32, the L-shaped living room with two doors 18 -> 24).
-    attempts : int
+    floor_attempts : int
         Times a sample's floor is tried at most (default 2): where the floor of
         the start nearest passing still fails its checks or rules after its
         repair rounds, the sample starts over with new starts (up to
@@ -161,7 +162,7 @@ class Options:
     hierarchy: bool = False
     repair: int = 6
     starts: int = 96
-    attempts: int = 2
+    floor_attempts: int = 2
     variants: int = 6
     variant_seed: int = 0
     batch: int = 64
@@ -175,10 +176,10 @@ class Options:
                 or self.starts < 1:
             raise ValueError(f"Options.starts must be a whole number >= 1 (start rounds a "
                              f"sample may draw), got {self.starts!r}")
-        if isinstance(self.attempts, bool) or not isinstance(self.attempts, Integral) \
-                or self.attempts < 1:
-            raise ValueError(f"Options.attempts must be a whole number >= 1 (times a sample's "
-                             f"floor is tried), got {self.attempts!r}")
+        tries = self.floor_attempts
+        if isinstance(tries, bool) or not isinstance(tries, Integral) or tries < 1:
+            raise ValueError(f"Options.floor_attempts must be a whole number >= 1 (times a "
+                             f"sample's floor is tried), got {tries!r}")
         if self.check_kwargs is None:
             object.__setattr__(self, "check_kwargs", {})
         elif not isinstance(self.check_kwargs, Mapping):

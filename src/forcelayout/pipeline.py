@@ -175,11 +175,11 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Mo
     misses = allowed_misses(len(model.compiled.bindings),
                             max(opts.min_rule_satisfaction, START_RULE_SATISFACTION))
     steps, best = 0, None
-    for attempt in range(opts.attempts):
+    for attempt in range(opts.floor_attempts):
         res, notes, verdict = yield from _floor_attempt(model, rng, opts, models, misses)
         steps += res.steps
         if attempt:  # the report says which attempt made the layout
-            notes = [f"started over ({attempt + 1} of {opts.attempts})", *notes]
+            notes = [f"started over ({attempt + 1} of {opts.floor_attempts})", *notes]
         if best is None or verdict is None or verdict.better_than(best[2], misses):
             best = (res, notes, verdict)
         if verdict is None or verdict.passes(misses):
@@ -236,8 +236,8 @@ def _floor_attempt(model: ForceModel, rng: np.random.Generator, opts: Options,
         steps += extra
         yaw = (yaw + np.pi) % (2 * np.pi) - np.pi
     verdict = None
-    if opts.attempts > 1 and model.n:  # whether to start over, and which attempt is nearer
-        # passing (neither asks what blocks the way to an unreachable object)
+    if opts.floor_attempts > 1 and model.n:  # whether to start over, and which attempt is
+        # nearer passing (neither asks what blocks the way to an unreachable object)
         verdict = yield JudgeRequest(model, pos, yaw, opts.check_kwargs, blockers=False)
     return replace(res, pos=pos, yaw=yaw, steps=steps), repairs, verdict
 

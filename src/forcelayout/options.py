@@ -140,6 +140,11 @@ class Options:
         repair rounds, the sample starts over with new starts (up to
         ``starts`` again), and keeps the better floor of its attempts. The
         report's repairs say "started over" for a layout a later attempt made.
+        A floor that passes is not tried again, so only failing samples pay:
+        2 against 1 took the 60 suite and held-out plans from 937 to 949 of 960
+        samples accepted (the L-shaped living room with two doors 37 -> 47 of
+        48, the dorm for two 39 -> 47); 3 added two more for half as much CPU
+        again.
     variants : int
         Variants generated per functional area on the hierarchical path.
     variant_seed : int

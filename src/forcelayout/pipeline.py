@@ -26,7 +26,7 @@ from forcelayout.plan import Plan
 from forcelayout.repair import closing, repair_task, repairing
 from forcelayout.solver import SimulationResult
 from forcelayout.surfaces import check_surfaces, place_surfaces_batch
-from forcelayout.verdict import JudgeRequest, allowed_misses
+from forcelayout.verdict import FloorVerdict, JudgeRequest, allowed_misses
 
 __all__ = ["Placement", "realise", "realise_batch", "prepare", "SETTLE_STARTS", "SETTLE_MIN_STEPS",
            "START_RULE_SATISFACTION"]
@@ -192,7 +192,7 @@ def _flat_floor(plan: Plan, rng: np.random.Generator, opts: Options, models: _Mo
 
 def _floor_attempt(model: ForceModel, rng: np.random.Generator, opts: Options,
                    models: _Models, misses: int
-                   ) -> SampleTask[tuple[SimulationResult, list[str], object]]:
+                   ) -> SampleTask[tuple[SimulationResult, list[str], FloorVerdict | None]]:
     """One attempt at a sample's floor: starts drawn until one passes and settles, else the
     full simulation of the start nearest passing, then its repair rounds. Returns the
     result (its poses, steps and whether it converged), the repair notes and the floor's

@@ -140,6 +140,13 @@ def test_the_most_common_check_rules_and_blockers_are_named():
                     "and at_wall(desk); wardrobe and desk block the path to bed")
 
 
+def test_a_way_closed_between_two_doors_is_named():
+    closed = fail("reachable: door 1 cannot be reached from door 0 (blocked by 'sofa', "
+                  "'bookcase')")
+    assert dominant_cause([closed, SampleReport(seed=1)]) == (
+        "50 % of samples fail 'reachable'; sofa and bookcase block the path to door 1")
+
+
 def test_rules_as_the_dominant_cause_name_the_missed_bindings():
     reports = [fail(UNMET)] * 3 + [fail("rules: 90% met, below 95%; unmet: "
                                         "next_to(nightstand_2, bed)")] + [fail(BLOCKED)]

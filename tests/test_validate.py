@@ -15,7 +15,14 @@ from hypothesis import strategies as st
 from forcelayout import Layout, Plan, Pose
 from forcelayout.baselines import random_layout
 from forcelayout.testing import plans
-from forcelayout.validate import CHECKS, CheckReport, check_layout, occupancy_mask, window_zones
+from forcelayout.validate import (
+    CHECKS,
+    CheckReport,
+    check_floors,
+    check_layout,
+    occupancy_mask,
+    window_zones,
+)
 
 SQUARE = [[0, 0], [4, 0], [4, 4], [0, 4]]
 DOOR = {"wall": 0, "offset": 2.5, "width": 0.9}  # swing square x 2.05..2.95, y 0..0.9
@@ -228,8 +235,28 @@ def test_every_door_must_reach_every_primary_object():
     poses = {"safe": Pose(1.0, 0.5, 0.0), "shelf_a": Pose(2.0, 2.0, 0.0)}  # splits the room
     rep = check_layout(Layout(make_plan(objects, doors=[DOOR, second]), poses))
     assert of(rep, "reachable") == [
-        "reachable: 'safe' cannot be reached from door 1 (blocked by 'shelf_a')"]
-    assert rep.blocked_by == {"safe": ["shelf_a"]}
+        "reachable: 'safe' cannot be reached from door 1 (blocked by 'shelf_a')",
+        "reachable: door 1 cannot be reached from door 0 (blocked by 'shelf_a')"]
+    assert rep.blocked_by == {"safe": ["shelf_a"], "door 1": ["shelf_a"]}
+    assert rep.unreachable == ["safe"]
+
+
+def test_a_room_with_two_doors_can_be_walked_through():
+    """Door to door, with no primary object at all: a shelf across the room fails it, the
+    same shelf with a gap an agent fits through does not."""
+    second = {"wall": 2, "offset": 3.5, "width": 0.8}
+    doors = [DOOR, second]
+    across = Layout(make_plan([obj("shelf_a", 3.9, 0.2)], doors=doors),
+                    {"shelf_a": Pose(2.0, 2.0, 0.0)})
+    rep = check_layout(across)
+    assert of(rep, "reachable") == [
+        "reachable: door 1 cannot be reached from door 0 (blocked by 'shelf_a')"]
+    assert rep.unreachable == [] and rep.blocked_by == {"door 1": ["shelf_a"]}
+    gap = Layout(make_plan([obj("shelf_a", 3.2, 0.2)], doors=doors),
+                 {"shelf_a": Pose(1.6, 2.0, 0.0)})  # 0.8 m free at the right wall
+    assert check_layout(gap).ok
+    [plain] = check_floors([across], name_blockers=False)
+    assert plain.failures == ["reachable: door 1 cannot be reached from door 0"]
 
 
 def test_surface_objects_are_not_floor_obstacles():

@@ -396,7 +396,7 @@ def feasibility(
 _QUOTED = re.compile(r"'([^']+)'")
 _BINDING = re.compile(r"([A-Za-z_][\w]*)\(([^()]*)\)")
 _BLOCKERS = re.compile(r"\(blocked by ([^)]*)\)")
-_UNREACHED = re.compile(r"^'([^']+)' cannot be reached")
+_UNREACHED = re.compile(r"^(?:'([^']+)'|(door \d+)) cannot be reached")
 
 
 def _names(ids: Sequence[str]) -> str:
@@ -505,7 +505,7 @@ def dominant_cause(reports: Iterable[Any]) -> str | None:
                 seen_block.update(dict.fromkeys(_QUOTED.findall(block.group(1))))
                 target = _UNREACHED.match(reason)
                 if target:
-                    seen_cut[target.group(1)] = None
+                    seen_cut[target.group(1) or target.group(2)] = None
                 reason = reason[:block.start()]
             # a missing object leads its part of the line ("missing: a: why; b: why"); the
             # names quoted in the why are where it was to go

@@ -31,8 +31,10 @@
     of its footprint (the agent's body comes within ``reach`` of it) that is
     4-connected through cells free for the agent's centre (at least the agent
     radius from furniture *and* from solid walls) to the cells just inside
-    each door. A room without doors is checked from its largest free region
-    instead. A failure names the objects that block the cheapest way in.
+    each door, and every door is so connected to the first (an agent walks
+    through a room with two doors). A room without doors is checked from its
+    largest free region instead. A failure names the objects that block the
+    cheapest way in.
 
 Each failure is a line ``"<check>: <reason naming the objects>"``.
 """
@@ -99,7 +101,8 @@ class CheckReport:
     blocked_by : dict of str to list of str
         For each unreachable primary object, the floor objects in the way of
         the cheapest path to it (from the first door that cannot reach it),
-        nearest the door first; empty when only the walls are in the way.
+        nearest the door first; empty when only the walls are in the way. A
+        door the first door cannot reach (``"door 1"``) is listed the same way.
     free_mask : ndarray of bool, shape (H, W), optional
         Cells free for the agent's centre (furniture and wall band taken out;
         what ``reachable`` walks on). Rows along +y, columns along +x.
@@ -451,7 +454,7 @@ def _floor_checks(layout: Layout, ids: list[str], pos: np.ndarray, yaw: np.ndarr
             clear = np.ones((len(dist2), *rg.shape), dtype=bool)
         free = rg.wall_free & clear
         # free regions, each floor's numbered on their own (no cell links two floors)
-        labels, _ = _label(free) if prim else (None, 0)
+        labels, _ = _label(free) if prim or len(rg.door_seeds) > 1 else (None, 0)
         reached = None  # (b, P, D): whether each primary object is reached from each door
         if prim and len(rg.door_seeds):
             at = {int(k): i for i, k in enumerate(rows)}
@@ -884,9 +887,10 @@ def _reachable(ids: list[str], prim: list[int], solid: np.ndarray, rows: np.ndar
     those of the floors before it: the numbers name regions, in the order a label of this
     floor alone would number them); ``reached`` (P, D), where given, is whether each is
     reached from each door (:func:`_reached_from_doors`)."""
-    if not prim or (reached is not None and reached.all()):
-        return [], {}, []
     seeds = rg.door_seeds
+    doors = _doors_apart(seeds, free, labels) if len(seeds) > 1 else []
+    if not doors and (not prim or (reached is not None and reached.all())):
+        return [], {}, []
     n = int(labels.max())
     if len(seeds):
         sources = list(seeds)
@@ -934,7 +938,25 @@ def _reachable(ids: list[str], prim: list[int], solid: np.ndarray, rows: np.ndar
             because = (f" (blocked by {', '.join(repr(b) for b in who)})" if who
                        else " (the walls leave no way through)")
             failures.append(f"reachable: {ids[k]!r} cannot be reached from {names[d]}{because}")
+    for d in doors:  # a door the first cannot reach: the room cannot be walked through
+        because = ""
+        if name:
+            if paths is None:
+                paths = _PathFinder(rg.floor, free, dist2[:len(solid)] <= r2)
+            who = [ids[solid[s]] for s in paths.blockers(0, sources[0], seeds[d])]
+            blocked_by.setdefault(names[d], who)
+            because = (f" (blocked by {', '.join(repr(b) for b in who)})" if who
+                       else " (the walls leave no way through)")
+        failures.append(f"reachable: {names[d]} cannot be reached from door 0{because}")
     return unreachable, blocked_by, failures
+
+
+def _doors_apart(seeds: np.ndarray, free: np.ndarray, labels: np.ndarray) -> list[int]:
+    """The doors (1, 2, ...) whose cells just inside share no free region with the first
+    door's: ``seeds`` (D, H, W), ``labels`` numbering the regions of ``free``."""
+    first = set(np.unique(labels[seeds[0] & free]).tolist()) - {0}
+    return [d for d in range(1, len(seeds))
+            if not first & set(np.unique(labels[seeds[d] & free]).tolist())]
 
 
 class _PathFinder:

@@ -108,6 +108,18 @@ def test_repairs_are_reported_and_can_be_turned_off():
     assert sum(lay.report.valid for lay in repaired) >= sum(lay.report.valid for lay in plain)
 
 
+def test_a_generation_counts_its_repaired_samples_by_kind():
+    full = fl.SolverConfig(settle_steps=0)  # every sample through the full simulation
+    gen = fl.generate("l_shaped_studio", 8, seed=1, solver=full)
+    fixed = gen.summary()["repaired"]
+    assert fixed["samples"] == sum(bool(r.repairs) for r in gen.reports) >= 1
+    for kind in ("resettled", "moved elsewhere", "started over"):
+        assert fixed[kind] == sum(any(n.startswith(kind) for n in r.repairs)
+                                  for r in gen.reports)
+    assert fixed["samples"] <= fixed["resettled"] + fixed["moved elsewhere"] \
+        + fixed["started over"]
+
+
 def test_same_seed_same_layout_with_repairs():
     a = fl.solve("living_room", 3)
     b = fl.solve("living_room", 3)

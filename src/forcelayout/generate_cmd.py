@@ -152,6 +152,10 @@ def run_generate(args: argparse.Namespace) -> int:
     if summary["failure_reasons"]:
         print("rejections: " + ", ".join(f"{k} x{v}" for k, v in
                                          summary["failure_reasons"].items()))
+    fixed = summary["repaired"]
+    if fixed["samples"]:
+        print(f"repaired: {fixed['samples']} of {summary['attempted']} samples (" + ", ".join(
+            f"{k} x{v}" for k, v in fixed.items() if k != "samples" and v) + ")")
     hint = result.hint(cli=True)
     if hint is not None:
         print(f"hint: {hint}", file=sys.stderr)

@@ -343,6 +343,9 @@ class Generation:
     def summary(self) -> Summary:
         """Counts, rates, timing and the most common failure reasons (``failure_reasons``:
         how many rejected samples failed each check or rule, a sample once under each);
+        ``repaired``: how many samples drawn were repaired, and how many by each kind of
+        step (``"resettled"``, ``"moved elsewhere"``, ``"started over"``; a sample once
+        under each, :attr:`SampleReport.repairs`);
         ``still_objects``: floor objects in the same spot in every accepted layout (of
         five or more; :func:`forcelayout.metrics.still_objects`).
 
@@ -378,6 +381,7 @@ class Generation:
             "median_steps": float(np.median([r.steps for r in self.reports])) if self.reports
             else 0.0,
             "failure_reasons": dict(sorted(reasons.items(), key=lambda kv: -kv[1])),
+            "repaired": _repaired(self.reports),
             # floor objects the plan leaves one spot: the same pose in every layout
             "still_objects": still_objects(self.layouts),
         })
@@ -762,3 +766,14 @@ def plan_feasibility(plan: Plan, opts: Options | None = None) -> Feasibility:
         kw["min_free_fraction"] = 0.0
     return feasibility(_plan_for(plan, opts), **kw)
 
+
+_REPAIR_KINDS = ("resettled", "moved elsewhere", "started over")
+
+
+def _repaired(reports: Sequence[SampleReport]) -> dict[str, int]:
+    """How many of ``reports`` were repaired (``samples``), and how many took each kind of
+    repair step, a sample once under each."""
+    out = {"samples": sum(bool(r.repairs) for r in reports)}
+    for kind in _REPAIR_KINDS:
+        out[kind] = sum(any(note.startswith(kind) for note in r.repairs) for r in reports)
+    return out

@@ -95,6 +95,20 @@ def test_contradictions_duplicates_and_many_targets():
     assert feasibility(p).verdict == "infeasible"
 
 
+def test_an_angle_that_reads_as_radians_is_found():
+    tv, sofa = obj("tv", size=(1.2, 0.1, 0.7)), obj("sofa", size=(2.0, 0.9, 0.8))
+
+    def facing(angle):
+        return plan([sofa, tv], [{"rule": "facing", "object": "sofa", "target": "tv",
+                                  "params": {"max_angle": angle}}])
+
+    [found] = [f for f in plan_findings(facing(0.5)) if "max_angle" in f.path]
+    assert found.path == "rules[0] (facing).params.max_angle"
+    assert "0.5 radians would be 29°" in found.message and found.severity == "implausible"
+    for degrees in (2.0, 15.0, 4.5):  # whole degrees, or more than pi: meant as degrees
+        assert not any("max_angle" in f.path for f in plan_findings(facing(degrees)))
+
+
 def test_opposite_unary_rules_are_a_contradiction():
     p = plan([obj("desk", size=(1.2, 0.6, 0.75))],
              [{"rule": "at_wall", "object": "desk"}, {"rule": "in_middle", "object": "desk"}])

@@ -389,6 +389,16 @@ def _opposite(name: str) -> str | None:
 
 
 def _rule_findings(plan: Plan) -> Iterable[Finding]:
+    # an angle in degrees that reads as radians (max_angle 0.5: half a degree)
+    for k, r in enumerate(plan.rules):
+        for name, value in r.params.items():
+            if name.endswith("angle") and isinstance(value, float) and 0 < value < math.pi \
+                    and not value.is_integer():
+                yield Finding(f"rules[{k}] ({r.rule}).params.{name}",
+                              f"{value:g} is in degrees (under {math.ceil(value):d}°); "
+                              f"{value:g} radians would be {math.degrees(value):.0f}°",
+                              f"give {name} in degrees, e.g. {math.degrees(value):.0f}",
+                              refs=(f"rules[{k}]",))
     # duplicates
     first: dict[tuple[str, str, str | None], int] = {}
     for k, r in enumerate(plan.rules):

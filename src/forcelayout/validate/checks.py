@@ -919,35 +919,31 @@ def _reachable(ids: list[str], prim: list[int], solid: np.ndarray, rows: np.ndar
     blocked_by: dict[str, list[str]] = {}
     failures: list[str] = []
     paths: _PathFinder | None = None
+
+    def cut_off(key: str, what: str, d: int, target: np.ndarray, skip: int = -1) -> str:
+        # the failure line for ``what`` (an object's quoted id, a door) not reached from
+        # source ``d``; with ``name``, what blocks the cheapest way to ``target`` (but row
+        # ``skip``), kept in ``blocked_by[key]``
+        line = f"reachable: {what} cannot be reached from {names[d]}"
+        if not name:
+            return line
+        nonlocal paths
+        if paths is None:  # one path search per source, over the cells obstacles take
+            paths = _PathFinder(rg.floor, free, dist2[:len(solid)] <= r2)
+        who = [ids[solid[s]] for s in paths.blockers(d, sources[d], target) if solid[s] != skip]
+        blocked_by.setdefault(key, who)
+        return line + (f" (blocked by {', '.join(repr(b) for b in who)})" if who
+                       else " (the walls leave no way through)")
+
     for row, k in enumerate(prim):
         ok = reached[row]
         if ok.all():
             continue
         unreachable.append(ids[k])
-        if not name:
-            failures += [f"reachable: {ids[k]!r} cannot be reached from {names[d]}"
-                         for d in np.nonzero(~ok)[0]]
-            continue
-        if paths is None:
-            blocked = dist2[:len(solid)] <= r2  # (S, H, W): cells each obstacle takes
-            paths = _PathFinder(rg.floor, free, blocked)
-        for d in np.nonzero(~ok)[0]:
-            who = [ids[solid[s]] for s in paths.blockers(int(d), sources[d], near_cells[row])
-                   if solid[s] != k]
-            blocked_by.setdefault(ids[k], who)
-            because = (f" (blocked by {', '.join(repr(b) for b in who)})" if who
-                       else " (the walls leave no way through)")
-            failures.append(f"reachable: {ids[k]!r} cannot be reached from {names[d]}{because}")
-    for d in doors:  # a door the first cannot reach: the room cannot be walked through
-        because = ""
-        if name:
-            if paths is None:
-                paths = _PathFinder(rg.floor, free, dist2[:len(solid)] <= r2)
-            who = [ids[solid[s]] for s in paths.blockers(0, sources[0], seeds[d])]
-            blocked_by.setdefault(names[d], who)
-            because = (f" (blocked by {', '.join(repr(b) for b in who)})" if who
-                       else " (the walls leave no way through)")
-        failures.append(f"reachable: {names[d]} cannot be reached from door 0{because}")
+        failures += [cut_off(ids[k], repr(ids[k]), int(d), near_cells[row], k)
+                     for d in np.nonzero(~ok)[0]]
+    # a door the first cannot reach: the room cannot be walked through
+    failures += [cut_off(names[d], names[d], 0, seeds[d]) for d in doors]
     return unreachable, blocked_by, failures
 
 

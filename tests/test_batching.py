@@ -156,7 +156,8 @@ def test_a_sample_at_the_step_cap_says_so_and_holds_up_no_other():
     res = simulate_batch(model, pos, yaw, cfg)
     for r in res:
         assert r.steps <= 30
-        assert r.converged == (r.steps < 30)
+        assert r.converged or r.steps == 30  # stopped short of the cap only at rest
+    assert not all(r.converged for r in res)  # one at the cap says so
     # a sample already at rest leaves at once; the others go on
     at_rest = simulate_batch(model, np.stack([res[0].pos, pos[1]]),
                              np.stack([res[0].yaw, yaw[1]]), cfg)

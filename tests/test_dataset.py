@@ -37,7 +37,7 @@ def test_the_folder_holds_layouts_index_and_summaries(whole):
     from test_docs import INDEX_LINE_KEYS  # the keys docs/scale.md shows
 
     for e in index:
-        assert e.keys() == INDEX_LINE_KEYS
+        assert e.keys() - {"repairs"} == INDEX_LINE_KEYS  # "repairs": a repaired sample
         assert e["files"][0] == f"{e['plan']}_{e['layout']:03d}.json"
         assert e["checks"]["passed"] and e["rule_satisfaction"] >= 0.95
         assert e["seed"] == fl.sampling.sample_seed(5, e["sample"])
@@ -91,6 +91,39 @@ def test_an_interrupted_run_resumes_to_the_same_bytes(whole, tmp_path, after, un
     assert result.resumed == after and result.complete
     assert seen[0] == after + 1 and seen[-1] == 6
     assert digest(tmp_path) == digest(whole)
+
+
+def test_repaired_layouts_say_how_and_the_summary_counts_them(tmp_path):
+    """One start round per sample: most floors are repaired or started over. Each repaired
+    layout's index line holds its report's repair notes, and summary.json counts them,
+    the same when the run was stopped and resumed."""
+    opts = fl.Options(starts=1)
+    gen = fl.generate("bedroom", 4, seed=0, options=opts)
+    build_dataset(["bedroom"], 4, tmp_path / "whole", seed=0, pictures="none", options=opts)
+    lines = [json.loads(x) for x in (tmp_path / "whole" / "index.jsonl").read_text().splitlines()]
+    assert [e.get("repairs", []) for e in lines] == [lay.report.repairs for lay in gen]
+    summary = json.loads((tmp_path / "whole" / "bedroom" / "summary.json").read_text())
+    want = fl.sampling.repair_counts([lay.report.repairs for lay in gen], "layouts")
+    assert summary["repaired"] == want and want["layouts"] >= 2
+
+    def stop(done, total):
+        if done == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        build_dataset(["bedroom"], 4, tmp_path / "resumed", seed=0, pictures="none",
+                      options=opts, progress=stop)
+    build_dataset(["bedroom"], 4, tmp_path / "resumed", seed=0, pictures="none", options=opts)
+    again = json.loads((tmp_path / "resumed" / "bedroom" / "summary.json").read_text())
+    assert again["repaired"] == want
+
+
+def test_repair_counts_count_a_sample_once_under_each_kind():
+    notes = [[], ["moved elsewhere bed: 1 -> 0 failures", "moved elsewhere desk: 1 -> 0"],
+             ["started over (2 of 2)", "resettled: 1 -> 0 failures"]]
+    assert fl.sampling.repair_counts(notes) == {
+        "samples": 2, "resettled": 1, "moved elsewhere": 1, "started over": 1}
+    assert fl.sampling.repair_counts([], "layouts")["layouts"] == 0
 
 
 def test_a_finished_dataset_is_left_as_is(whole, tmp_path):

@@ -65,6 +65,7 @@ from forcelayout.sampling import (
     executor_workers,
     iter_samples,
     plan_feasibility,
+    repair_counts,
 )
 from forcelayout.sources import load_plan
 from forcelayout.validate.loop import Judge, judge_layout, judge_name
@@ -600,6 +601,8 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int, what: _File
             entry = {"plan": plan.name, "layout": j, "sample": sample, "seed": lay.seed,
                      "rule_satisfaction": round(lay.rule_satisfaction, 6),
                      "rejected_before": rejected, **written}
+            if lay.report.repairs:  # how the sample was repaired before it passed
+                entry["repairs"] = list(lay.report.repairs)
             if verdict is not None:
                 entry["judge"] = verdict
             with (out / INDEX).open("a", encoding="utf-8") as f:
@@ -658,6 +661,8 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int, what: _File
     summary = {
         "plan": plan.name, "wanted": n, "accepted": k, "attempted": outcome.attempted,
         "why": outcome.why, "failure_reasons": dict(sorted(reasons.items())),
+        # the accepted layouts that were repaired, and how
+        "repaired": repair_counts((e.get("repairs", ()) for e in done.values()), "layouts"),
     }
     if judge is not None:
         summary["judge"] = judge_name(judge)

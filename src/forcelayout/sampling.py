@@ -17,7 +17,7 @@ import math
 import signal
 import time
 import warnings
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import Executor, ProcessPoolExecutor
 from dataclasses import dataclass, replace
 from typing import Any
@@ -49,6 +49,7 @@ __all__ = [
     "generate",
     "iter_samples",
     "executor_workers",
+    "repair_counts",
     "process_pool",
     "stop_executor",
     "plan_feasibility",
@@ -773,7 +774,16 @@ _REPAIR_KINDS = ("resettled", "moved elsewhere", "started over")
 def _repaired(reports: Sequence[SampleReport]) -> dict[str, int]:
     """How many of ``reports`` were repaired (``samples``), and how many took each kind of
     repair step, a sample once under each."""
-    out = {"samples": sum(bool(r.repairs) for r in reports)}
+    return repair_counts([r.repairs for r in reports])
+
+
+def repair_counts(repairs: Iterable[Sequence[str]], key: str = "samples") -> dict[str, int]:
+    """How many of the samples whose repair notes (:attr:`SampleReport.repairs`) are given
+    were repaired (under ``key``), and how many took each kind of repair step
+    (``"resettled"``, ``"moved elsewhere"``, ``"started over"``), a sample once under each.
+    """
+    notes = [list(r) for r in repairs]
+    out = {key: sum(bool(r) for r in notes)}
     for kind in _REPAIR_KINDS:
-        out[kind] = sum(any(note.startswith(kind) for note in r.repairs) for r in reports)
+        out[kind] = sum(any(note.startswith(kind) for note in r) for r in notes)
     return out

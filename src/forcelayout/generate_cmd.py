@@ -12,10 +12,11 @@ With ``--assets DIR`` the plan is grounded to that asset library first
 (:mod:`forcelayout.grounding`): ``plan.json`` is the grounded plan, each
 object sized as its scaled mesh.
 
-A plan that looks infeasible before sampling gets one ``warning:`` line on
-stderr before the samples run; a run with fewer layouts than asked for ends
-with one ``hint:`` line on stderr (the dominant cause and what to try) and
-exit status 1.
+Before the samples run, a plan that looks tight or implausible gets a
+``warning:`` line on stderr per note (those ``forcelayout validate`` prints),
+and one that looks infeasible one more ``warning:`` line; a run with fewer
+layouts than asked for ends with one ``hint:`` line on stderr (the dominant
+cause and what to try) and exit status 1.
 """
 
 from __future__ import annotations
@@ -87,11 +88,13 @@ def run_generate(args: argparse.Namespace) -> int:
         from forcelayout.ground_cmd import ground_for_command
 
         plan = ground_for_command([plan], args)[0].plan
-    from forcelayout.sanity import plan_findings
+    from forcelayout.diagnose import feasibility
 
-    for finding in plan_findings(plan):  # the infeasible ones come with the feasibility warning
-        if finding.severity != "infeasible":
-            print(f"warning: {finding}", file=sys.stderr, flush=True)
+    # what `validate` warns of (a tight plan, implausible sizes); the infeasible notes come
+    # with the feasibility warning of the run
+    feas = feasibility(plan)
+    for note in feas.notes[feas.blocking:]:
+        print(f"warning: {note}", file=sys.stderr, flush=True)
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
     _remove_earlier_run(out, plan.name, args.overwrite)

@@ -13,7 +13,7 @@ the wrong wall. A plugin rule gets the same help by declaring a hint.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -44,6 +44,8 @@ _ALL_MET = 20.0
 #: How far (metres) a footprint may reach into an access zone before it counts as standing
 #: in it.
 _INTRUDE = 0.02
+#: Uniform numbers each sample's generator gives at a time for a candidate draw (``_Draws``).
+_BLOCK = 256
 #: Gaps a child starts at beside or in front of its parent, metres (drawn uniformly).
 _GAP = (0.02, 0.1)
 #: Wall a child beside its parent takes besides its width: the closest gap it starts at
@@ -234,10 +236,46 @@ def _opening_centres(room, w: _Wants) -> np.ndarray | None:
     return None
 
 
-def _each(rngs: Sequence[np.random.Generator], draw: Callable[[np.random.Generator], Any]
-          ) -> np.ndarray:
-    """One draw from each sample's generator, stacked: shape (B, ...)."""
-    return np.stack([draw(g) for g in rngs])
+class _Draws:
+    """Random numbers of B samples, each from its own generator, drawn for all at once.
+
+    Each sample's generator gives a block of uniform numbers at a time (one
+    call per sample, where a draw per sample for each kind of number was a
+    tenth of a crowded plan's CPU); the methods take the next ones of every
+    sample's block, so sample ``b``'s numbers depend on ``rngs[b]`` and on
+    what it took before only, never on the other samples of its batch. What
+    is left of a block when the object is dropped is not used.
+    """
+
+    def __init__(self, rngs: Sequence[np.random.Generator], block: int = _BLOCK):
+        self.rngs, self.block = list(rngs), block
+        self.buf = np.empty((len(self.rngs), 0))
+        self.at = 0
+
+    def random(self, shape: int | tuple[int, ...]) -> np.ndarray:
+        """Uniform numbers in [0, 1) of shape (B, *shape)."""
+        shape = (shape,) if isinstance(shape, int) else tuple(shape)
+        n = int(np.prod(shape))
+        if self.at + n > self.buf.shape[1]:  # every sample draws its next block
+            fresh = np.stack([g.random(max(n, self.block)) for g in self.rngs])
+            self.buf = np.concatenate([self.buf[:, self.at:], fresh], axis=1)
+            self.at = 0
+        out = self.buf[:, self.at: self.at + n]
+        self.at += n
+        return out.reshape(len(self.rngs), *shape)
+
+    def uniform(self, lo: Any, hi: Any, shape: int | tuple[int, ...]) -> np.ndarray:
+        """Uniform numbers in [lo, hi), shape (B, *shape)."""
+        return lo + (np.asarray(hi) - lo) * self.random(shape)
+
+    def integers(self, n: int, shape: int | tuple[int, ...]) -> np.ndarray:
+        """Whole numbers in [0, n), shape (B, *shape)."""
+        return np.minimum((self.random(shape) * n).astype(np.int64), n - 1)
+
+    def normal(self, sd: float, shape: int | tuple[int, ...]) -> np.ndarray:
+        """Normal numbers of mean 0 and deviation ``sd`` (Box-Muller), shape (B, *shape)."""
+        u, v = self.random(shape), self.random(shape)
+        return sd * np.sqrt(-2.0 * np.log1p(-u)) * np.cos(2.0 * np.pi * v)
 
 
 def _snap_to_wall(
@@ -264,7 +302,7 @@ def _snap_to_wall(
 
 def _wall_candidates(
     room,
-    rngs: Sequence[np.random.Generator],
+    draws: _Draws,
     k: int,
     half: np.ndarray,
     near: np.ndarray | None,
@@ -290,40 +328,38 @@ def _wall_candidates(
     weight = np.where(ok, room.length, 0.0)
     if weight.sum() <= 0:
         weight = room.length.copy()
-    # rng.choice(n_walls, size=k, p=weight / weight.sum()), draw for draw, without its
-    # checks of p (a fifth of the cost on these few walls)
+    # a wall drawn by its length
     cdf = np.cumsum(weight / weight.sum())
     cdf /= cdf[-1]
-    walls = cdf.searchsorted(_each(rngs, lambda g: g.random(k)), side="right")
+    walls = np.minimum(cdf.searchsorted(draws.random(k), side="right"), len(cdf) - 1)
     slack = np.maximum(room.length[walls] - 2 * end, 0.0)
-    along = end + _each(rngs, lambda g: g.uniform(0.0, 1.0, k)) * slack
+    along = end + draws.random(k) * slack
     cand = room.a[walls] + room.tangent[walls] * along[..., None]
     return _snap_to_wall(room, cand, half, walls)
 
 
-def _near_opening(rngs: Sequence[np.random.Generator], k: int, centre: np.ndarray,
-                  reach: float) -> np.ndarray:
+def _near_opening(draws: _Draws, k: int, centre: np.ndarray, reach: float) -> np.ndarray:
     """``k`` points per sample (B, k, 2) near random openings of ``centre`` (M, 2): spread
     evenly over the disc of radius ``reach`` where the rules say how far the object may be,
     else close around."""
-    pick = centre[_each(rngs, lambda g: g.integers(0, len(centre), k))]
+    pick = centre[draws.integers(len(centre), k)]
     if reach <= 0:
-        return pick + _each(rngs, lambda g: g.normal(0.0, 0.6, (k, 2)))
-    r = reach * np.sqrt(_each(rngs, lambda g: g.uniform(0.0, 1.0, k)))
-    a = _each(rngs, lambda g: g.uniform(-np.pi, np.pi, k))
+        return pick + draws.normal(0.6, (k, 2))
+    r = reach * np.sqrt(draws.random(k))
+    a = draws.uniform(-np.pi, np.pi, k)
     return pick + r[..., None] * np.stack([np.cos(a), np.sin(a)], axis=-1)
 
 
 def _corner_candidates(
-    room, rngs: Sequence[np.random.Generator], k: int, half: np.ndarray
+    room, draws: _Draws, k: int, half: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray] | None:
     """``k`` poses per sample (B, k) tucked into random convex corners, backs against one
     of the walls."""
     convex = room.convex_corners[0]
     if convex.size == 0:
         return None
-    v = convex[_each(rngs, lambda g: g.integers(0, convex.size, k))]
-    back_first = _each(rngs, lambda g: g.random(k)) < 0.5
+    v = convex[draws.integers(convex.size, k)]
+    back_first = draws.random(k) < 0.5
     w1, w2 = (v - 1) % room.n_walls, v  # the two walls meeting at vertex v
     wb = np.where(back_first, w1, w2)  # wall behind the object
     ws = np.where(back_first, w2, w1)  # wall at its side
@@ -342,35 +378,32 @@ def _back_walls(room, p: np.ndarray, yaw: np.ndarray, half: np.ndarray) -> np.nd
     return np.where(ok.any(1), np.argmin(np.where(ok, np.abs(s), np.inf), axis=1), -1)
 
 
-def _child_candidates(room, rngs, k, wants: _Wants, q: np.ndarray, r, pos, yaw, half,
+def _child_candidates(room, draws: _Draws, k, wants: _Wants, q: np.ndarray, r, pos, yaw, half,
                       radius, spread) -> tuple[np.ndarray, np.ndarray]:
     """Poses (B, k) for object ``r`` around its parent ``q`` (a row per sample, (B,)),
     laid out as its rules ask."""
     places, turns = wants.places, wants.turns
-    nb = len(rngs)
+    nb = len(q)
     bi = np.arange(nb)
     yq, pq, hq = yaw[bi, q], pos[bi, q][:, None, :], half[q]  # (B,), (B, 1, 2), (B, 2)
     fq = np.stack([-np.sin(yq), np.cos(yq)], axis=-1)[:, None, :]  # (B, 1, 2)
     rq = np.stack([np.cos(yq), np.sin(yq)], axis=-1)[:, None, :]
-    side = np.where(_each(rngs, lambda g: g.random(k)) < 0.5, -1.0, 1.0)  # (B, k)
+    side = np.where(draws.random(k) < 0.5, -1.0, 1.0)  # (B, k)
     if "right" in places:
         side[:] = 1.0
     elif "left" in places:
         side[:] = -1.0
-    gap = _each(rngs, lambda g: g.uniform(*_GAP, k))[..., None]  # (B, k, 1)
+    gap = draws.uniform(_GAP[0], _GAP[1], k)[..., None]  # (B, k, 1)
     same = np.repeat(yq[:, None], k, axis=1)
     if "beneath" in places:  # centred under the parent, square with it
-        return pq + _each(rngs, lambda g: g.normal(0.0, 0.05, (k, 2))), same
+        return pq + draws.normal(0.05, (k, 2)), same
     if places & {"front", "back"}:
         sign = -1.0 if "back" in places else 1.0
-        dist = hq[:, 1:2] + half[r, 1] + _each(rngs, lambda g: g.uniform(0.1, 0.1 + spread, k))
+        dist = hq[:, 1:2] + half[r, 1] + draws.uniform(0.1, 0.1 + spread, k)
         # centred, or anywhere along the parent's width (three stools at one island)
-        reach = np.maximum(hq[:, 0] - half[r, 0], 0.0)
-
-        def lateral(g: np.random.Generator, m: float) -> np.ndarray:
-            return np.where(g.random(k) < 0.5, g.normal(0.0, 0.15, k), g.uniform(-m, m, k))
-
-        lat = np.stack([lateral(g, float(m)) for g, m in zip(rngs, reach, strict=True)])
+        reach = np.maximum(hq[:, 0] - half[r, 0], 0.0)[:, None]
+        centred = draws.random(k) < 0.5
+        lat = np.where(centred, draws.normal(0.15, k), draws.uniform(-reach, reach, k))
         cand = pq + sign * fq * dist[..., None] + rq * lat[..., None]
         if "face_target" in turns:
             return cand, geo.yaw_facing((pq - cand).reshape(-1, 2)).reshape(nb, k)
@@ -395,7 +428,7 @@ def _child_candidates(room, rngs, k, wants: _Wants, q: np.ndarray, r, pos, yaw, 
         pa, fa, ra, ha = pq[at], fq[at], rq[at], hq[at][:, None, :]
         on_wall = _snap_to_wall(room, c[:, m:], half[r], np.repeat(wall[at, None], k - m, 1))
         out = pa + ra * (sd[:, :m, None] * (ha[..., 0:1] + half[r, 1] + gp[:, :m]))
-        back = np.stack([rngs[b].uniform(0.0, half[q[b], 1], (m, 1)) for b in at])
+        back = draws.random((m, 1))[at] * half[q[at], 1][:, None, None]
         near_side = _snap_to_wall(room, out - fa * back, half[r])
         past = out + fa * (ha[..., 1:2] + half[r, 0] + gp[:, :m])
         round_corner = _snap_to_wall(room, past, half[r])
@@ -417,22 +450,22 @@ def _child_candidates(room, rngs, k, wants: _Wants, q: np.ndarray, r, pos, yaw, 
         return cand, cyaw
     if "all_round" in places:  # at a side of the parent (by its length), square to it
         out_c, out_y = np.empty((nb, k, 2)), np.empty((nb, k))
+        which, along = draws.random(k), draws.uniform(-1.0, 1.0, k)
         for b in range(nb):  # the sides of each sample's parent
             normals, axes, lengths, depths = geo.box_sides(rq[b, 0], fq[b, 0], hq[b])
             cdf = np.cumsum(lengths / lengths.sum())
-            s = np.minimum(cdf.searchsorted(rngs[b].random(k), side="right"), 3)
+            s = np.minimum(cdf.searchsorted(which[b], side="right"), 3)
             reach = np.maximum(lengths[s] - half[r, 0], 0.0)
             out_c[b] = (pq[b] + normals[s] * (depths[s] + half[r, 1] + gap[b, :, 0])[:, None]
-                        + axes[s] * (rngs[b].uniform(-1.0, 1.0, k) * reach)[:, None])
+                        + axes[s] * (along[b] * reach)[:, None])
             out_y[b] = geo.yaw_facing(-normals[s])
         return out_c, out_y
     if "wall" in places and "face_target" in turns:  # across the room, on the wall it faces
         span = float(np.hypot(*(room.bounds[2:] - room.bounds[:2])))
-        cand = (pq + fq * _each(rngs, lambda g: g.uniform(1.0, span, (k, 1)))
-                + rq * _each(rngs, lambda g: g.normal(0.0, 0.3, (k, 1))))
+        cand = pq + fq * draws.uniform(1.0, span, (k, 1)) + rq * draws.normal(0.3, (k, 1))
         return _snap_to_wall(room, cand, half[r])
-    ang = _each(rngs, lambda g: g.uniform(-np.pi, np.pi, k))
-    dist = radius[q][:, None] * 0.8 + radius[r] + _each(rngs, lambda g: g.uniform(0.0, spread, k))
+    ang = draws.uniform(-np.pi, np.pi, k)
+    dist = radius[q][:, None] * 0.8 + radius[r] + draws.uniform(0.0, spread, k)
     cand = pq + dist[..., None] * np.stack([np.cos(ang), np.sin(ang)], axis=-1)
     if "wall" in places:
         return _snap_to_wall(room, cand, half[r])
@@ -440,7 +473,7 @@ def _child_candidates(room, rngs, k, wants: _Wants, q: np.ndarray, r, pos, yaw, 
         return cand, geo.yaw_facing((pq - cand).reshape(-1, 2)).reshape(nb, k)
     if "target_heading" in turns:
         return cand, same
-    return cand, _each(rngs, lambda g: g.uniform(-np.pi, np.pi, k))
+    return cand, draws.uniform(-np.pi, np.pi, k)
 
 
 def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r) -> np.ndarray:
@@ -1140,44 +1173,45 @@ class _Placer:
         room, half, w = self.room, self.half, self.wants[r]
         places = w.places
         nb = len(rngs)
+        draws = _Draws(rngs)
         q = int(self.parent[r])
         sides = self.sides[r]  # wall to keep free on the left and the right, metres
         # square with the room, as settled
-        cyaw = _each(rngs, lambda g: g.integers(0, 4, tries)) * (0.5 * np.pi)
-        corner = _corner_candidates(room, rngs, tries, half[r]) if "corner" in places else None
+        cyaw = draws.integers(4, tries) * (0.5 * np.pi)
+        corner = _corner_candidates(room, draws, tries, half[r]) if "corner" in places else None
         loose = 0  # the first candidates, drawn with no wall kept free beside them
         opening = _opening_centres(room, w)
         if corner is not None:
             cand, cyaw = corner
         elif q >= 0:
-            cand, cyaw = _child_candidates(room, rngs, tries, w, np.full(nb, q), r, pos, yaw,
+            cand, cyaw = _child_candidates(room, draws, tries, w, np.full(nb, q), r, pos, yaw,
                                            half, self.radius, spread)
         elif "wall" in places:
-            near = None if opening is None else _near_opening(rngs, tries, opening, w.reach)
-            cand, cyaw = _wall_candidates(room, rngs, tries, half[r], near, sides)
+            near = None if opening is None else _near_opening(draws, tries, opening, w.reach)
+            cand, cyaw = _wall_candidates(room, draws, tries, half[r], near, sides)
             if self.either[r] and near is None:
                 # half the draws anywhere along a wall: the children that may stand on
                 # either side may also stand at another wall beside it (a bed near a corner)
                 loose = tries // 2
-                cand[:, :loose], cyaw[:, :loose] = _wall_candidates(room, rngs, loose,
+                cand[:, :loose], cyaw[:, :loose] = _wall_candidates(room, draws, loose,
                                                                     half[r], None)
         elif opening is not None:
-            cand = _near_opening(rngs, tries, opening, w.reach)
+            cand = _near_opening(draws, tries, opening, w.reach)
         elif "middle" in places:
             if w.reach > 0:  # evenly over the share of the room's extent its rules allow
                 ext = w.reach * (room.bounds[2:] - room.bounds[:2])
-                cand = room.centroid + _each(rngs, lambda g: g.uniform(-ext, ext, (tries, 2)))
+                cand = room.centroid + draws.uniform(-ext, ext, (tries, 2))
             else:
-                cand = room.centroid + _each(rngs, lambda g: g.normal(0.0, 0.3, (tries, 2)))
+                cand = room.centroid + draws.normal(0.3, (tries, 2))
         else:
-            cand = _each(rngs, lambda g: g.uniform(self.lo, self.hi, (tries, 2)))
+            cand = draws.uniform(self.lo, self.hi, (tries, 2))
         # beside the placed objects it should stand beside other than its parent
         # (the second bed beside the nightstand that already stands by the first); as
         # many for every sample (``place`` sees to it), which ones its own
         partners = [self._side_partners(r, pl)[:2] for pl in placed]
         for k in range(len(partners[0])):
             wp = _Wants(places={"beside"} | (places & {"wall"}), turns=w.turns)
-            more, more_yaw = _child_candidates(room, rngs, tries // 2, wp,
+            more, more_yaw = _child_candidates(room, draws, tries // 2, wp,
                                                np.array([p[k] for p in partners]), r, pos,
                                                yaw, half, self.radius, spread)
             cand = np.concatenate([cand, more], axis=1)
@@ -1186,13 +1220,10 @@ class _Placer:
         # belong at one, anywhere in the room for the rest
         extra = tries // 2
         if "wall" in places:
-            more, more_yaw = _wall_candidates(room, rngs, extra, half[r], None)
+            more, more_yaw = _wall_candidates(room, draws, extra, half[r], None)
         else:
-            more, more_yaw = [], []
-            for g in rngs:
-                more.append(g.uniform(self.lo, self.hi, (extra, 2)))
-                more_yaw.append(g.uniform(-np.pi, np.pi, extra))
-            more, more_yaw = np.stack(more), np.stack(more_yaw)
+            more = draws.uniform(self.lo, self.hi, (extra, 2))
+            more_yaw = draws.uniform(-np.pi, np.pi, extra)
         cand = np.concatenate([cand, more], axis=1)
         cyaw = np.concatenate([cyaw, more_yaw], axis=1)
         toward = _opening_turn(room, w.turns, places)

@@ -104,7 +104,7 @@ def test_repaired_layouts_say_how_and_the_summary_counts_them(tmp_path):
     assert [e.get("repairs", []) for e in lines] == [lay.report.repairs for lay in gen]
     summary = json.loads((tmp_path / "whole" / "bedroom" / "summary.json").read_text())
     want = fl.sampling.repair_counts([lay.report.repairs for lay in gen], "layouts")
-    assert summary["repaired"] == want and want["layouts"] >= 2
+    assert summary["repaired"] == want and want["layouts"] >= 1
 
     def stop(done, total):
         if done == 2:

@@ -64,10 +64,11 @@ def test_bad_arguments_are_refused():
 
 
 def test_rules_missed_by_fewer_than_half_of_the_failed_samples_go_one_a_round():
-    """A kids' room a small model planned (two beds aligned, near, facing ...): its failed
-    samples miss different rules; the one missed most often goes, alone."""
+    """A kids' room a small model planned (two beds aligned, near, facing ...), asked for
+    half of its trial's samples (it gives about 3 of 12 as planned): its failed samples
+    miss different rules; the one missed most often goes, alone."""
     plan = Plan.load(Path(__file__).parent / "data" / "relax_kids_room.json")
-    relaxed, notes = relax(plan)
+    relaxed, notes = relax(plan, wanted=6)
     assert len(notes) == 1  # the counts move with the solver; the rule and the form do not
     assert re.fullmatch(r"removed aligned_with\(bed_1, bed_2\): trial 1 missed it in (\d+) of "
                         r"(\d+) failed samples", notes[0]), notes

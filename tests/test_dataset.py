@@ -99,12 +99,14 @@ def test_repaired_layouts_say_how_and_the_summary_counts_them(tmp_path):
     the same when the run was stopped and resumed."""
     opts = fl.Options(starts=1)
     gen = fl.generate("bedroom", 4, seed=0, options=opts)
-    build_dataset(["bedroom"], 4, tmp_path / "whole", seed=0, pictures="none", options=opts)
+    result = build_dataset(["bedroom"], 4, tmp_path / "whole", seed=0, pictures="none",
+                           options=opts)
     lines = [json.loads(x) for x in (tmp_path / "whole" / "index.jsonl").read_text().splitlines()]
     assert [e.get("repairs", []) for e in lines] == [lay.report.repairs for lay in gen]
     summary = json.loads((tmp_path / "whole" / "bedroom" / "summary.json").read_text())
     want = fl.sampling.repair_counts([lay.report.repairs for lay in gen], "layouts")
     assert summary["repaired"] == want and want["layouts"] >= 1
+    assert result.plans[0].repaired == want
 
     def stop(done, total):
         if done == 2:
@@ -113,9 +115,30 @@ def test_repaired_layouts_say_how_and_the_summary_counts_them(tmp_path):
     with pytest.raises(KeyboardInterrupt):
         build_dataset(["bedroom"], 4, tmp_path / "resumed", seed=0, pictures="none",
                       options=opts, progress=stop)
-    build_dataset(["bedroom"], 4, tmp_path / "resumed", seed=0, pictures="none", options=opts)
+    resumed = build_dataset(["bedroom"], 4, tmp_path / "resumed", seed=0, pictures="none",
+                            options=opts)
     again = json.loads((tmp_path / "resumed" / "bedroom" / "summary.json").read_text())
-    assert again["repaired"] == want
+    assert again["repaired"] == want and resumed.plans[0].repaired == want
+    finished = build_dataset(["bedroom"], 4, tmp_path / "resumed", seed=0, pictures="none",
+                             options=opts)  # finished before: read from its summary
+    assert finished.plans[0].repaired == want
+
+
+def test_the_command_line_says_how_many_layouts_were_repaired(tmp_path, capsys, monkeypatch):
+    from forcelayout import dataset_cmd
+    from forcelayout.dataset import DatasetResult, PlanOutcome
+
+    def built(sources, n, out, **kwargs):
+        counts = [{"layouts": 2, "resettled": 1, "moved elsewhere": 0, "started over": 1},
+                  {"layouts": 1, "resettled": 0, "moved elsewhere": 1, "started over": 0}]
+        return DatasetResult(Path(out), [PlanOutcome(f"p{k}", n, n, n + 1, repaired=c)
+                                         for k, c in enumerate(counts)], 1.0)
+
+    monkeypatch.setattr(dataset_cmd, "build_dataset", built)
+    assert main(["dataset", "bedroom", "home_office", "-n", "3", "--out", str(tmp_path),
+                 "--quiet"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[-1] == "repaired: 3 of 6 layouts (resettled x1, moved elsewhere x1, started over x1)"
 
 
 def test_repair_counts_count_a_sample_once_under_each_kind():

@@ -107,6 +107,9 @@ class PlanOutcome:
         Layouts that were already finished when this run started.
     why : str or None
         When fewer than ``wanted`` were accepted, the dominant cause in one line.
+    repaired : dict of str to int
+        The finished layouts whose samples were repaired (``"layouts"``) and how many took
+        each kind of repair step (:func:`forcelayout.sampling.repair_counts`), in all runs.
     """
 
     name: str
@@ -115,6 +118,7 @@ class PlanOutcome:
     attempted: int = 0
     resumed: int = 0
     why: str | None = None
+    repaired: dict[str, int] = field(default_factory=dict)
 
 
 @dataclass
@@ -580,7 +584,9 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int, what: _File
     outcome.resumed = k
     if summary_path.exists() and k >= min(n, _summary_accepted(summary_path)):
         outcome.accepted = k
-        outcome.attempted = json.loads(summary_path.read_text(encoding="utf-8"))["attempted"]
+        finished = json.loads(summary_path.read_text(encoding="utf-8"))
+        outcome.attempted = finished["attempted"]
+        outcome.repaired = finished.get("repaired", {})
         return outcome
     write_text(folder / "plan.json", plan.to_json())
     t0 = time.perf_counter()
@@ -664,6 +670,7 @@ def _run_plan(plan: Plan, n: int, out: Path, seed: int, budget: int, what: _File
         # the accepted layouts that were repaired, and how
         "repaired": repair_counts((e.get("repairs", ()) for e in done.values()), "layouts"),
     }
+    outcome.repaired = summary["repaired"]
     if judge is not None:
         summary["judge"] = judge_name(judge)
     write_text(summary_path, _json(summary))

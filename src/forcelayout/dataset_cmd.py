@@ -222,6 +222,11 @@ def run_dataset(args: argparse.Namespace) -> int:
     resumed = f", {result.resumed} of them from an earlier run" if result.resumed else ""
     print(f"{result.accepted}/{result.wanted} layouts of {len(result.plans)} plan(s) in "
           f"{args.out}{resumed} ({result.seconds:.1f} s)")
+    fixed = {k: sum(p.repaired.get(k, 0) for p in result.plans)
+             for k in ("layouts", "resettled", "moved elsewhere", "started over")}
+    if fixed["layouts"]:  # as generate says it, over the finished layouts
+        print(f"repaired: {fixed['layouts']} of {result.accepted} layouts (" + ", ".join(
+            f"{k} x{v}" for k, v in fixed.items() if k != "layouts" and v) + ")")
     short = [p for p in result.plans if p.accepted < p.wanted]
     for p in short:
         print(f"hint: only {p.accepted} of {p.wanted} layouts of plan {p.name!r} from "

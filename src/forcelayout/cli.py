@@ -201,6 +201,16 @@ def _min_rules(args: argparse.Namespace) -> float:
     return float(getattr(args, "min_rules", Options().min_rule_satisfaction))
 
 
+def _repaired_line(counts: dict[str, int], key: str, total: int, noun: str) -> str | None:
+    """The ``repaired:`` line of ``generate`` and ``dataset`` from repair counts
+    (:func:`forcelayout.sampling.repair_counts`, ``counts[key]`` of ``total`` ``noun``), or
+    None where nothing was repaired."""
+    if not counts.get(key):
+        return None
+    kinds = ", ".join(f"{k} x{v}" for k, v in counts.items() if k != key and v)
+    return f"repaired: {counts[key]} of {total} {noun} ({kinds})"
+
+
 class _Parser(argparse.ArgumentParser):
     """An argument parser that says what is wrong with the command line in one line (and
     where the usage is), not the whole usage text first."""

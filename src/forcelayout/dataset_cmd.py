@@ -32,7 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from forcelayout import examples
-from forcelayout.cli import ACCESS_HELP, MIN_RULES_HELP, _min_rules
+from forcelayout.cli import ACCESS_HELP, MIN_RULES_HELP, _min_rules, _repaired_line
 from forcelayout.dataset import INDEX, MANIFEST, DatasetError, build_dataset
 from forcelayout.diagnose import feasibility_warnings_as_lines
 from forcelayout.options import Options
@@ -222,11 +222,13 @@ def run_dataset(args: argparse.Namespace) -> int:
     resumed = f", {result.resumed} of them from an earlier run" if result.resumed else ""
     print(f"{result.accepted}/{result.wanted} layouts of {len(result.plans)} plan(s) in "
           f"{args.out}{resumed} ({result.seconds:.1f} s)")
-    fixed = {k: sum(p.repaired.get(k, 0) for p in result.plans)
-             for k in ("layouts", "resettled", "moved elsewhere", "started over")}
-    if fixed["layouts"]:  # as generate says it, over the finished layouts
-        print(f"repaired: {fixed['layouts']} of {result.accepted} layouts (" + ", ".join(
-            f"{k} x{v}" for k, v in fixed.items() if k != "layouts" and v) + ")")
+    totals: dict[str, int] = {}  # over the plans' finished layouts
+    for p in result.plans:
+        for k, v in p.repaired.items():
+            totals[k] = totals.get(k, 0) + v
+    fixed = _repaired_line(totals, "layouts", result.accepted, "layouts")
+    if fixed is not None:
+        print(fixed)
     short = [p for p in result.plans if p.accepted < p.wanted]
     for p in short:
         print(f"hint: only {p.accepted} of {p.wanted} layouts of plan {p.name!r} from "

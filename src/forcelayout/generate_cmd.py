@@ -30,7 +30,7 @@ import warnings
 from concurrent.futures import Executor, Future
 from pathlib import Path
 
-from forcelayout.cli import _min_rules
+from forcelayout.cli import _min_rules, _repaired_line
 from forcelayout.dataset import layout_stem
 from forcelayout.diagnose import FewLayoutsWarning, feasibility_warnings_as_lines
 from forcelayout.errors import InputError
@@ -155,10 +155,9 @@ def run_generate(args: argparse.Namespace) -> int:
     if summary["failure_reasons"]:
         print("rejections: " + ", ".join(f"{k} x{v}" for k, v in
                                          summary["failure_reasons"].items()))
-    fixed = summary["repaired"]
-    if fixed["samples"]:
-        print(f"repaired: {fixed['samples']} of {summary['attempted']} samples (" + ", ".join(
-            f"{k} x{v}" for k, v in fixed.items() if k != "samples" and v) + ")")
+    fixed = _repaired_line(summary["repaired"], "samples", summary["attempted"], "samples")
+    if fixed is not None:
+        print(fixed)
     hint = result.hint(cli=True)
     if hint is not None:
         print(f"hint: {hint}", file=sys.stderr)

@@ -382,7 +382,7 @@ class Generation:
             "median_steps": float(np.median([r.steps for r in self.reports])) if self.reports
             else 0.0,
             "failure_reasons": dict(sorted(reasons.items(), key=lambda kv: -kv[1])),
-            "repaired": _repaired(self.reports),
+            "repaired": repair_counts(r.repairs for r in self.reports),
             # floor objects the plan leaves one spot: the same pose in every layout
             "still_objects": still_objects(self.layouts),
         })
@@ -769,12 +769,6 @@ def plan_feasibility(plan: Plan, opts: Options | None = None) -> Feasibility:
 
 
 _REPAIR_KINDS = ("resettled", "moved elsewhere", "started over")
-
-
-def _repaired(reports: Sequence[SampleReport]) -> dict[str, int]:
-    """How many of ``reports`` were repaired (``samples``), and how many took each kind of
-    repair step, a sample once under each."""
-    return repair_counts([r.repairs for r in reports])
 
 
 def repair_counts(repairs: Iterable[Sequence[str]], key: str = "samples") -> dict[str, int]:

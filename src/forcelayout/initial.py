@@ -1237,58 +1237,102 @@ class _Placer:
         """One draw of candidates for row ``r`` per sample, judged: the rank, clearance,
         position and heading of each sample's best one, and the access zones it leaves
         blocked (counted in its rank), shapes (B,), (B,), (B, 2), (B,), (B,)."""
-        model, half, walkable, window = self.model, self.half, self.walkable, self.window
+        half, walkable = self.half, self.walkable
         w = self.wants[r]
-        sides = self.sides[r]
         cand, cyaw, loose = self._draw(r, placed, pos, yaw, rngs, tries, spread)
         c, s = np.cos(cyaw), np.sin(cyaw)
         rgt = np.stack([c, s], axis=2)
         fwd = np.stack([-s, c], axis=2)
-        # judge the footprint widened by the room its side children need, and the
-        # footprint alone; walkable covers are no obstacle (furniture stands on them)
-        # the rows standing in some sample's room, and which stand in each one's
+        # walkable covers are no obstacle (furniture stands on them); the rows standing in
+        # some sample's room, and which stand in each one's
         rows, sets = _rooms(placed)
         solid = [] if walkable[r] else [p for p in rows if not walkable[p]]
         present = None if sets is None else np.array(
             [[p in sb for p in solid] for sb in sets], dtype=bool).reshape(len(sets), len(solid))
         slack = np.array([0.045 if p in w.related else 0.0 for p in solid])
 
-        def clearance(centres: np.ndarray, ext: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-            # footprints of half extent ext at the centres, turned as the candidates are
-            return self._clearance(centres, rgt, fwd, ext, solid, slack, pos, yaw,
-                                   not walkable[r], present)
+        inside0, clear0 = self._clearance(cand, rgt, fwd, half[r], solid, slack, pos, yaw,
+                                          not walkable[r], present)
+        score = np.where(inside0, clear0, -np.inf)
+        # the rest is judged for the clear candidates only, each with its own sample's
+        # objects (a candidate that is not clear ranks by its clearance alone): the
+        # clear ones as C samples of one candidate each
+        bk = cand.shape[:2]
+        sb, sk = np.nonzero(score >= _CLEAR)
+        unmet = np.zeros(bk)
+        access = np.zeros(bk)
+        if len(sb):
+            penalty, miss = self._judge(r, sb, sk, loose, cand, cyaw, rgt, fwd, solid, slack,
+                                        pos, yaw, present, placed)
+            unmet[sb, sk] = penalty
+            access[sb, sk] = miss
+        # first clear candidate meeting the most of the rules it can be judged by, its
+        # children's counted too; else the one with the most clearance
+        rank = np.where(score >= _CLEAR, _ALL_MET - 2.0 * (unmet + access),
+                        np.where(np.isfinite(score), -10.0, -99.0))
+        k = np.where(rank.max(axis=1) > -10.0, np.argmax(rank, axis=1),
+                     np.argmax(score, axis=1))
+        b = np.arange(len(k))
+        return rank[b, k], score[b, k], cand[b, k], cyaw[b, k], access[b, k]
+
+    def _judge(self, r: int, sb: np.ndarray, sk: np.ndarray, loose: int, cand: np.ndarray,
+               cyaw: np.ndarray, rgt: np.ndarray, fwd: np.ndarray, solid: list[int],
+               slack: np.ndarray, pos: np.ndarray, yaw: np.ndarray,
+               present: np.ndarray | None, placed: Sequence[Sequence[int]]
+               ) -> tuple[np.ndarray, np.ndarray]:
+        """The misses of the clear candidates ``(sb, sk)`` (sample, candidate) of row
+        ``r``, shapes (C,): the rules they miss and the rooms their children lack (each a
+        miss), and the objects they leave with no access zone free."""
+        model, half, walkable, window = self.model, self.half, self.walkable, self.window
+        w = self.wants[r]
+        sides = self.sides[r]
+        # judge footprints widened by the room their children need, as well as the
+        # footprint alone
+        cand, cyaw = cand[sb, sk][:, None], cyaw[sb, sk][:, None]  # (C, 1, 2), (C, 1)
+        rgt, fwd = rgt[sb, sk][:, None], fwd[sb, sk][:, None]
+        pos, yaw = pos[sb], yaw[sb]
+        present = None if present is None else present[sb]
+        n = len(sb)
 
         def roomy(centres: np.ndarray, ext: np.ndarray) -> np.ndarray:
-            # whether those footprints lie inside the floor and clear of what stands there
-            ins, cl = clearance(centres, ext)
-            return ins & (cl >= _CLEAR)
+            # whether footprints of half extent ext at the centres, turned as the
+            # candidates are, lie inside the floor and clear of what stands there
+            ins, cl = self._clearance(centres, rgt, fwd, ext, solid, slack, pos, yaw,
+                                      not walkable[r], present)
+            return (ins & (cl >= _CLEAR))[:, 0]
 
-        inside0, clear0 = clearance(cand, half[r])
         # children that would find no room where their rules put them, per candidate:
         # each side child on a side without its stretch of wall, each front or all-round
         # child of a parent without its margin (every one costs its parent a rule)
-        cramped = np.zeros(cand.shape[:2])
+        cramped = np.zeros(n)
         if sides.max() > 0:
             left, right = sides
             nl, nr = self.side_count[r]
 
             def side(metres: float, sign: float) -> np.ndarray:  # room on one side
                 if metres <= 0:
-                    return np.ones(cand.shape[:2], dtype=bool)
+                    return np.ones(n, dtype=bool)
                 return roomy(cand + rgt * (0.5 * sign * metres),
                              half[r] + np.array([0.5 * metres, 0.0]))
 
             cramped = nl * ~side(left, -1.0) + nr * ~side(right, 1.0)
             if self.either[r] and (left, nl) != (right, nr):  # or the other way round
                 cramped = np.minimum(cramped, nr * ~side(right, -1.0) + nl * ~side(left, 1.0))
-            cramped[:, :loose] = 0.0  # drawn with no wall kept beside them
+            cramped[sk < loose] = 0.0  # drawn with no wall kept beside them
+        fm = self.front_margin[r]
+        if fm > 0:  # in front of it for its front children (the chair at the desk)
+            cramped += self.n_front[r] * ~roomy(cand + fwd * (0.5 * fm),
+                                                half[r] + np.array([0.0, 0.5 * fm]))
+        am = self.around_margin[r]
+        if am > 0:  # all round it for its children there (the chairs at a table)
+            cramped += self.n_around[r] * ~roomy(cand, half[r] + am)
         # no room above it for the object that hangs there: that object goes missing and
         # the sample fails, so this ranks with a spot in a window zone (below)
-        bk = cand.shape[:2]
         unmet = 4.0 * _unmet(self.room, w, cand.reshape(-1, 2), fwd.reshape(-1, 2),
-                             rgt.reshape(-1, 2), half[r]).reshape(bk)
-        unmet += _unmet_rules(model, self.by_object[r], r, cand, cyaw, pos, yaw, placed)
-        access = self._access_misses(r, cand, rgt, fwd, solid, pos, yaw, present)
+                             rgt.reshape(-1, 2), half[r])
+        unmet += _unmet_rules(model, self.by_object[r], r, cand, cyaw, pos, yaw,
+                              [placed[b] for b in sb])[:, 0]
+        access = self._access_misses(r, cand, rgt, fwd, solid, pos, yaw, present)[:, 0]
         if window is not None and window.tall[:, r].any():  # tall: not in front of a window
             z = window.tall[:, r]
             sep = geo.obb_separation(window.centre[z][None, None] - cand[:, :, None],
@@ -1297,20 +1341,5 @@ class _Placer:
                                      window.half[z][None, None])
             # a failed check rejects a sample, an unmet rule may be within its tolerance:
             # a spot in a window zone ranks below one that misses any few rules
-            unmet += 4.0 * (sep < -0.02).any(axis=2)
-        score = np.where(inside0, clear0, -np.inf)
-        fm = self.front_margin[r]
-        if fm > 0:  # in front of it for its front children (the chair at the desk)
-            cramped += self.n_front[r] * ~roomy(cand + fwd * (0.5 * fm),
-                                                half[r] + np.array([0.0, 0.5 * fm]))
-        am = self.around_margin[r]
-        if am > 0:  # all round it for its children there (the chairs at a table)
-            cramped += self.n_around[r] * ~roomy(cand, half[r] + am)
-        # first clear candidate meeting the most of the rules it can be judged by, its
-        # children's counted too; else the one with the most clearance
-        rank = np.where(score >= _CLEAR, _ALL_MET - 2.0 * (unmet + cramped + access),
-                        np.where(np.isfinite(score), -10.0, -99.0))
-        k = np.where(rank.max(axis=1) > -10.0, np.argmax(rank, axis=1),
-                     np.argmax(score, axis=1))
-        b = np.arange(len(k))
-        return rank[b, k], score[b, k], cand[b, k], cyaw[b, k], access[b, k]
+            unmet += 4.0 * (sep < -0.02).any(axis=2)[:, 0]
+        return unmet + cramped, access

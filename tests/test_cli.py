@@ -126,11 +126,19 @@ def test_missing_plan_file(tmp_path, capsys):
     assert "no plan file" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("module", ["forcelayout.cli", "forcelayout"])
 @pytest.mark.parametrize("args", [["--version"], ["rules", "--help"]])
-def test_entry_point_is_installed(args):
-    proc = subprocess.run([sys.executable, "-m", "forcelayout.cli", *args], capture_output=True,
+def test_entry_point_is_installed(args, module):
+    proc = subprocess.run([sys.executable, "-m", module, *args], capture_output=True,
                           text=True)
-    assert proc.returncode == 0
+    assert proc.returncode == 0 and proc.stdout.strip()
+
+
+def test_python_dash_m_forcelayout_reports_a_user_error_in_one_line(tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "forcelayout", "validate",
+                           str(tmp_path / "nope.json")], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert "no plan file" in proc.stderr and "Traceback" not in proc.stderr
 
 
 def test_validate_skips_the_runs_plan_and_summary_and_counts_what_passes(tmp_path, capsys):
@@ -161,8 +169,13 @@ def test_generate_warns_early_and_ends_with_a_one_line_hint(tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["generate", str(plan), "-n", "2", "--max-attempts", "2", "--out", str(out),
                  "--quiet", "--format", "none"]) == 1
-    err = capsys.readouterr().err
+    captured = capsys.readouterr()
+    err = captured.err
     assert "Traceback" not in err and "Warning:" not in err  # no Python warning format
+    # the rejections by kind, with one line of the most common kind
+    (rejections,) = [x for x in captured.out.splitlines() if x.startswith("rejections: ")]
+    top = rejections.removeprefix("rejections: ").split(" x")[0]
+    assert f"(e.g. {top}: " in rejections
     lines = err.splitlines()
     *warnings, hint = lines
     # the notes validate prints (the free floor's estimate), then the infeasible verdict

@@ -75,6 +75,11 @@ def _remove_earlier_run(out: Path, name: str, overwrite: bool) -> None:
         print(f"replaced {some} an earlier run wrote to {out}", file=sys.stderr, flush=True)
 
 
+def _shorten(line: str, most: int = 160) -> str:
+    """A failure line cut to ``most`` characters."""
+    return line if len(line) <= most else line[:most - 3].rstrip() + "..."
+
+
 def _draw(layout: Layout, path: Path, access: bool = False) -> None:
     """Write one layout's picture (in the main process or a worker), with its access
     zones when the run keeps them free."""
@@ -153,8 +158,13 @@ def run_generate(args: argparse.Namespace) -> int:
               f"{'it' if len(still) == 1 else 'them'} one place (move a door or window, or "
               "loosen a rule, for variety)")
     if summary["failure_reasons"]:
+        # the counts, and one line of the most common kind (summary.json has every line)
+        top = next(iter(summary["failure_reasons"]))
+        example = next((f for r in result.rejected for f in r.failures
+                        if f.split(":")[0] == top), None)
         print("rejections: " + ", ".join(f"{k} x{v}" for k, v in
-                                         summary["failure_reasons"].items()))
+                                         summary["failure_reasons"].items())
+              + (f" (e.g. {_shorten(example)})" if example else ""))
     fixed = _repaired_line(summary["repaired"], "samples", summary["attempted"], "samples")
     if fixed is not None:
         print(fixed)

@@ -199,6 +199,20 @@ def test_unknown_field_is_rejected():
     assert p.path == "objects[0].colour"
 
 
+@pytest.mark.parametrize("where, typo, meant", [
+    (("rules", 1), "taget", "target"), (("objects", 0), "sise", "size"),
+    (("room",), "windws", "windows"), (("room", "doors", 0), "widht", "width"),
+])
+def test_a_misspelled_field_suggests_the_field_it_is_close_to(where, typo, meant):
+    data = plan_with()
+    node = data
+    for k in where:
+        node = node[k]
+    node[typo] = node.pop(meant, 1)
+    found = [p for p in problems(data) if p.path.endswith(typo)]
+    assert len(found) == 1 and f"Did you mean {meant!r}?" in found[0].message
+
+
 def test_too_much_furniture_fails_fast():
     data = plan_with()
     data["objects"] += [{"id": f"box_{k}", "category": "box", "size": [1.0, 1.0, 1.0]}

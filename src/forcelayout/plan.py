@@ -31,7 +31,7 @@ import math
 import re
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, get_args
 
 import numpy as np
 import shapely
@@ -409,6 +409,9 @@ def _plan_error(e: ValidationError) -> PlanError:
         msg = err["msg"].removeprefix("Value error, ")
         if err["type"] == "extra_forbidden":
             msg = "unknown field; remove it or check its spelling"
+            fields = _fields_at(err["loc"][:-1])
+            if fields and isinstance(err["loc"][-1], str):
+                msg += _did_you_mean(err["loc"][-1], fields).replace(" Did", ". Did", 1)
         elif err["type"] == "missing":
             msg = "required field is missing"
         loc = err["loc"]
@@ -416,6 +419,29 @@ def _plan_error(e: ValidationError) -> PlanError:
             msg += "; size is [width, depth, height] in metres"
         problems.append(Problem(_fmt_loc(loc), msg))
     return PlanError(problems)
+
+
+def _fields_at(loc: tuple) -> list[str]:
+    """The field names of the model at ``loc`` in a plan (``("rules", 2)``: a rule's), or
+    none where the path leads to no model."""
+    model: Any = Plan
+    for part in loc:
+        if isinstance(part, int):
+            continue
+        field = getattr(model, "model_fields", {}).get(part)
+        if field is None:
+            return []
+        kinds = [field.annotation]
+        model = None
+        while kinds:  # the model in list[...], X | None, Annotated[...]
+            t = kinds.pop()
+            if isinstance(t, type) and issubclass(t, BaseModel):
+                model = t
+                break
+            kinds.extend(get_args(t))
+        if model is None:
+            return []
+    return [f.alias or name for name, f in model.model_fields.items()]
 
 
 def _did_you_mean(name: str, options: list[str]) -> str:

@@ -116,6 +116,17 @@ def test_too_few_layouts_say_the_dominant_cause_in_one_line(empty_run):
     assert res.why in text and "loosen" in text and "\n" not in text
 
 
+def test_a_plan_whose_rules_conflict_is_told_the_fix_not_to_loosen_the_room():
+    conflict = json.loads(json.dumps(SMALL))
+    conflict["rules"].append({"rule": "in_middle", "object": "desk"})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fl.generate(conflict, 1, seed=0, max_attempts=1)
+    hint = res.hint()
+    assert len(res) == 0 and "before sampling the plan looked infeasible: rules[3]" in hint
+    assert "keep one of rules[2] and rules[3]" in hint and "larger room" not in hint
+
+
 def test_indexing_an_empty_generation_says_why(empty_run):
     res, _ = empty_run
     with pytest.raises(EmptyGenerationError) as info:

@@ -319,8 +319,14 @@ class Generation:
         if tried == 0:
             todo = f"allow samples with {attempts(max(4 * n, n + 20))}"
         elif self.feasibility is not None and not self.feasibility.ok:
-            todo = ("the plan looked infeasible before sampling; loosen it (fewer or smaller "
-                    "objects, a larger room, fewer wall rules) rather than drawing more samples")
+            first = self.feasibility.infeasible_notes[0]
+            if first in {str(f) for f in self.feasibility.findings}:  # a rule that cannot
+                # be met, with its fix: that, not more samples or less furniture
+                todo = f"before sampling the plan looked infeasible: {first}"
+            else:
+                todo = ("the plan looked infeasible before sampling; loosen it (fewer or "
+                        "smaller objects, a larger room, fewer wall rules) rather than "
+                        "drawing more samples")
         elif k > 0:
             more = tried + math.ceil((n - k) * tried / k * 1.2)
             todo = f"try {attempts(more)} (about {k / tried:.0%} of samples are accepted)"

@@ -205,7 +205,8 @@ class Feasibility:
             f"({self.fill:.0%}); about {self.free_fraction:.0%} stays free for an agent of "
             f"radius {self.agent_radius:g} m (at best {self.free_fraction_best:.0%}; "
             f"need {self.min_free_fraction:.0%})",
-            f"  room {self.room_span[0]:.2f} x {self.room_span[1]:.2f} m"
+            f"  room {self.room_span[1]:.2f} x {self.room_span[0]:.2f} m"  # long x short,
+            # as the plan's errors and findings give it
             + (f"; largest object {self.largest!r} {self.largest_size[0]:.2f} x "
                f"{self.largest_size[1]:.2f} m" if self.largest else ""),
             f"  {len(self.wall_bound)} wall-bound objects take {self.wall_demand:.2f} m of "

@@ -117,8 +117,18 @@ def test_above_needs_the_target_by_the_wall_it_hangs_on():
     assert not _above_met(corner, 2, 4.0 - 0.45)
     assert not _above_met(corner, 0, 0.45)
     # unless the plan allows the target's side to the wall, or a larger gap
-    assert _above_met(corner, 2, 4.0 - 0.45, max_angle=90.0)
+    assert _above_met(corner, 2, 4.0 - 1.0, max_angle=90.0)
     assert _above_met(fl.Pose(1.5, 1.5, -np.pi / 2, 0.0, "floor"), 3, 1.5, wall_gap=0.6)
+
+
+def test_above_wants_the_centre_over_the_middle_of_the_target():
+    # the bed's side along wall 2 spans x = 0..2 (u = 4 - x): the middle half is u = 2.5..3.5
+    corner = fl.Pose(1.0, 2.3, -np.pi / 2, 0.0, "floor")
+    side = {"max_angle": 90.0}
+    assert _above_met(corner, 2, 3.0, **side) and _above_met(corner, 2, 3.5, **side)
+    assert not _above_met(corner, 2, 3.55, **side)  # over the bed's end
+    assert _above_met(corner, 2, 3.55, middle=1.0, **side)  # anywhere over the bed
+    assert not _above_met(corner, 2, 3.3, middle=0.2, **side) and _above_met(corner, 2, 3.3, **side)
 
 
 def test_back_wall_is_the_wall_a_footprint_stands_with_its_back_to():

@@ -26,7 +26,8 @@ from forcelayout.batching import SampleTask, drive
 from forcelayout.clearance import WindowTerm
 from forcelayout.forces import ForceModel, RuleGroup
 from forcelayout.rules.base import ParamArrays, StartHint, State
-from forcelayout.surfaces.walls import back_wall, hanging_centres, target_stand
+from forcelayout.rules.surface import middle_span
+from forcelayout.surfaces.walls import back_wall, hanging_centres, target_middle, target_stand
 from forcelayout.verdict import FloorVerdict, JudgeRequest
 
 __all__ = ["parents", "initial_poses", "start_poses", "propose_poses", "relocate", "Starts",
@@ -61,9 +62,10 @@ class _Wants:
     turns: set[str] = field(default_factory=set)
     related: set[int] = field(default_factory=set)  # every target row
     # per object hanging on the wall above this one: where its centre can go, (wall, u0, u1)
-    # rows (surfaces.walls.hanging_centres), and how far and how turned this one may stand
-    # from that wall (surfaces.walls.target_stand)
-    hanging: list[tuple[np.ndarray, tuple[float, float]]] = field(default_factory=list)
+    # rows (surfaces.walls.hanging_centres), how far and how turned this one may stand
+    # from that wall (surfaces.walls.target_stand), and the share of its extent, about its
+    # middle, the centre goes over (surfaces.walls.target_middle)
+    hanging: list[tuple[np.ndarray, tuple[float, float], float]] = field(default_factory=list)
     reach: float = 0.0  # how far from its start place its rules let it be (0: unsaid)
     # the one window or door a rule picks, by kind ("window", "door") -> index in the room's
     picks: dict[str, int] = field(default_factory=dict)
@@ -162,7 +164,7 @@ def _wants(model: ForceModel) -> list[_Wants]:
                 and b.target in row:
             top = float(model.plan.object(b.target).size[2])
             out[row[b.target]].hanging.append((hanging_centres(model.plan, b, top),
-                                               target_stand(b)))
+                                               target_stand(b), target_middle(b)))
     return out
 
 
@@ -482,20 +484,21 @@ def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r) -> np.ndarray:
     The wall object hangs on the wall behind this object (the ``above`` rule;
     :func:`~forcelayout.surfaces.walls.back_wall`, as
     :func:`forcelayout.surfaces.walls.place_on_walls` chooses it) with its
-    centre within the footprint's extent along that wall; it has room where
-    a stretch of that wall clear of doors and windows
-    (:func:`~forcelayout.surfaces.walls.hanging_centres`) meets that extent.
+    centre over the middle of the footprint's extent along that wall (the
+    rule's ``middle`` share of it); it has room where a stretch of that wall
+    clear of doors and windows
+    (:func:`~forcelayout.surfaces.walls.hanging_centres`) meets that middle.
     1 where a candidate leaves some hanging object no room, else 0.
     """
     unmet = np.zeros(len(cand))
     if not wants.hanging:
         return unmet
     corners = geo.corners_from_axes(cand, rgt, fwd, np.broadcast_to(half_r, cand.shape))
-    for spots, (gap, turn) in wants.hanging:
+    for spots, (gap, turn), middle in wants.hanging:
         wall, behind = back_wall(room, corners, fwd, gap, turn)  # (K,)
         u = np.einsum("kcd,kd->kc", corners, room.tangent[wall]) \
             - room.tangent_offset[wall][:, None]  # (K, 4)
-        lo, hi = u.min(axis=1)[:, None], u.max(axis=1)[:, None]
+        lo, hi = middle_span(u.min(axis=1)[:, None], u.max(axis=1)[:, None], middle)
         fits = ((wall[:, None] == spots[:, 0]) & (spots[:, 1] <= hi)
                 & (spots[:, 2] >= lo)).any(axis=1)
         unmet += ~(fits & behind)

@@ -43,6 +43,14 @@ def wall_band(p: ParamArrays, room_height: float) -> tuple[np.ndarray, np.ndarra
     return low, high
 
 
+def middle_span(lo: np.ndarray | float, hi: np.ndarray | float, share: np.ndarray | float
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """The middle ``share`` of the spans ``[lo, hi]`` (metres along a wall): where the
+    ``above`` rule wants the centre of what hangs over a target spanning them."""
+    mid, half = 0.5 * (np.asarray(lo) + hi), 0.5 * np.asarray(share) * (np.asarray(hi) - lo)
+    return mid - half, mid + half
+
+
 def _on_wall_geometry(state: State, i: np.ndarray, tol: np.ndarray
                       ) -> tuple[np.ndarray, np.ndarray]:
     """Whether each object hangs flat on its wall (back on it, facing in, within its length).
@@ -167,9 +175,11 @@ class Above(_SurfaceRule):
     degrees of the wall's inward normal, its footprint at most ``wall_gap``
     metres from it: a cabinet on the side wall beside a counter's end, or on
     the wall across the corner from a washer a metre out, is not above it), the
-    object's centre lies within the target's extent along that wall, and
-    its bottom is at least ``clearance`` metres above the target's top (and
-    its top at most ``high``, default the ceiling).
+    object's centre lies over the middle ``middle`` share of the target's
+    extent along that wall (the middle half by default: a mirror over a
+    dresser, not hanging off its end beside a window), and its bottom is at
+    least ``clearance`` metres above the target's top (and its top at most
+    ``high``, default the ceiling).
     """
 
     surface = "wall"
@@ -187,6 +197,10 @@ class Above(_SurfaceRule):
         max_angle: float = Field(45.0, gt=0, le=180,
                                  description="Largest angle between the target's front and "
                                              "the inward normal of that wall, degrees.")
+        middle: float = Field(0.5, gt=0, le=1,
+                              description="Share of the target's extent along the wall, "
+                                          "about its middle, the object's centre lies "
+                                          "over (1: anywhere over the target).")
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         room = state.room
@@ -204,7 +218,8 @@ class Above(_SurfaceRule):
             >= np.cos(np.radians(np.asarray(p.max_angle, dtype=float))) - 1e-9
         ut = np.einsum("bck,bk->bc", state.corners[j], t) - toff[:, None]
         uc = np.einsum("bk,bk->b", state.pos[i], t) - toff
-        ok &= (uc >= ut.min(axis=1) - _Z_TOL) & (uc <= ut.max(axis=1) + _Z_TOL)
+        lo, hi = middle_span(ut.min(axis=1), ut.max(axis=1), np.asarray(p.middle, dtype=float))
+        ok &= (uc >= lo - _Z_TOL) & (uc <= hi + _Z_TOL)
         top_j = state.z[j] + state.size[j, 2]
         _, high = wall_band(ParamArrays({"low": np.zeros(len(i)), "high": p.high}, p.weight),
                             room.height)

@@ -22,6 +22,7 @@ from forcelayout.geometry import RoomGeometry, box_corners, front_vectors
 from forcelayout.layout import Pose
 from forcelayout.options import SolverConfig
 from forcelayout.plan import Plan
+from forcelayout.rules.surface import middle_span
 from forcelayout.surfaces.plane import (
     AnchorTerm,
     SurfacePlacement,
@@ -87,6 +88,13 @@ def wall_band(binding: Binding, room_height: float, target_top: float | None = N
 def target_clearance(binding: Binding) -> float:
     """Smallest gap (metres) above the target of a wall binding (its ``clearance`` param)."""
     return float(getattr(binding.params, "clearance", 0.0))
+
+
+def target_middle(binding: Binding) -> float:
+    """The share of its target's extent along the wall, about its middle, over which a wall
+    binding's object hangs (the ``above`` rule's ``middle``; 1, anywhere over the target,
+    where the rule has none)."""
+    return float(getattr(binding.params, "middle", 1.0))
 
 
 def target_stand(binding: Binding) -> tuple[float, float]:
@@ -280,9 +288,15 @@ def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gene
         for wall in walls:
             if b.target is not None:
                 u = tc[0] @ room.tangent[wall] - room.tangent_offset[wall]
-                span = (float(u.min()), float(u.max()))
+                lo, hi = middle_span(u.min(), u.max(), target_middle(b))
+                span = (float(lo), float(hi))
             spot = (chosen[1] if chosen is not None else
                     _wall_spot(room.length[wall], blocks[wall], w, h, low, high, span, rng))
+            if spot is None and span is not None and (span[0] > u.min() or span[1] < u.max()):
+                # no room over the target's middle (a window there): anywhere over the
+                # target, its rule unmet, rather than not hung at all
+                span = (float(u.min()), float(u.max()))
+                spot = _wall_spot(room.length[wall], blocks[wall], w, h, low, high, span, rng)
             if spot is not None:
                 u, v = spot
                 blocks[wall].append((u - w / 2, u + w / 2, v, v + h))

@@ -153,8 +153,15 @@ def test_around_pulls_in_and_turns_to_the_table():
 
 def test_around_asks_for_a_side_of_the_table_square_to_it():
     table = [1.2, 0.8]  # centre (2, 1.75): sides at x 1.4 / 2.6, y 1.35 / 2.15
-    # at the long side, anywhere along it, square to it: met
-    _, _, ok, _ = run("around", [2.5, 2.42], [2.0, 1.75], target_size=table, yaw=np.pi)
+    # at the long side, anywhere along it short of its corners, square to it: met
+    _, _, ok, _ = run("around", [2.35, 2.42], [2.0, 1.75], target_size=table, yaw=np.pi)
+    assert ok
+    # a 0.5 m chair centred 0.1 m from the corner stands 0.15 m past it: not met, pulled
+    # back along the side; met where the plan allows that overhang
+    f, _, ok, _ = run("around", [2.5, 2.42], [2.0, 1.75], target_size=table, yaw=np.pi)
+    assert not ok and f[0] < 0
+    _, _, ok, _ = run("around", [2.5, 2.42], [2.0, 1.75], target_size=table, yaw=np.pi,
+                      overhang=0.3)
     assert ok
     # off a corner, turned towards the centre: not met; pulled back along the side
     yaw = np.arctan2(-(2.0 - 2.85), 1.75 - 2.55)  # front towards the centre

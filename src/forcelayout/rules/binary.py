@@ -457,10 +457,12 @@ class Around(Rule):
     """Around the target (chairs around a table): close to one of its sides, facing it.
 
     Satisfied when the footprint gap to the target is at most ``distance``
-    metres, the object's centre lies beside one of the target's sides (not
-    off a corner) and its front is within ``max_angle`` degrees of square to
-    that side. Besides pulling each object in, back along its side when it
-    is off a corner, and turning it square to that side, the force pushes
+    metres, the object stands beside one of the target's sides, not past its
+    corners (its centre at most ``overhang`` times its width beyond where it
+    would stand flush with the side's end; a chair wider than the side is
+    centred on it), and its front is within ``max_angle`` degrees of square
+    to that side. Besides pulling each object in, back along its side when it
+    is past a corner, and turning it square to that side, the force pushes
     the objects bound around the same target at the same side apart along
     it until each has room beside the next (their widths and 10 cm between
     them). Objects start at a side chosen by its length, square to it.
@@ -479,8 +481,18 @@ class Around(Rule):
         max_angle: float = Field(30.0, gt=0, le=180,
                                  description="Largest angle between the object's front and "
                                              "the direction to the target's centre, deg.")
+        overhang: float = Field(0.1, ge=0, le=0.5,
+                                description="How far past a corner of the target the object "
+                                            "may stand, as a share of its width (0.5: its "
+                                            "centre at the corner).")
 
     batched = True  # relates rows through i, j and per-sample pairs only
+
+    @staticmethod
+    def _reach(state: State, i: np.ndarray, half: np.ndarray, p: ParamArrays) -> np.ndarray:
+        """How far along its side each object's centre may lie from the side's middle."""
+        width = state.size[i, 0]
+        return np.maximum(half - (0.5 - np.asarray(p.overhang, dtype=float)) * width, 0.0)
 
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         w = p.weight
@@ -499,8 +511,9 @@ class Around(Rule):
                 len(i))[:, None], -1.0, 1.0)))  # two at one spot: the later binding goes +
             push = np.where(same, away * np.maximum(need - np.abs(d), 0.0), 0.0)
             f += axis * (w * np.clip(push.sum(1), -CAP / GAIN, CAP / GAIN) * GAIN * 0.5)[:, None]
-        # its centre past the end of its side (off a corner): back along the side
-        f -= axis * (w * np.sign(along) * ramp(np.abs(along) - half))[:, None]
+        # past a corner of its side: back along the side
+        f -= axis * (w * np.sign(along) * ramp(np.abs(along) - self._reach(state, i, half, p))
+                     )[:, None]
         dead = 0.25 * np.radians(p.max_angle)
         return f, turn(signed_angle(state.front[i], -normal), dead, w)
 
@@ -508,7 +521,7 @@ class Around(Rule):
         close = state.gap(i, j) <= p.distance
         normal, _, along, half = _side(state, i, j)
         square = np.abs(signed_angle(state.front[i], -normal)) <= np.radians(p.max_angle)
-        return close & square & (np.abs(along) <= half)
+        return close & square & (np.abs(along) <= self._reach(state, i, half, p) + 1e-6)
 
 
 class Under(Rule):

@@ -16,6 +16,7 @@ import numpy as np
 from forcelayout.bindings import Binding
 from forcelayout.forces import ForceModel
 from forcelayout.layout import Layout, Pose
+from forcelayout.rules.base import State
 from forcelayout.rules.physical import wall_gaps
 from forcelayout.validate.checks import check_floors
 
@@ -161,10 +162,15 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
                 v.at_fault.update(row[n] for n in blockers if n in row)
         radius = float((check_kwargs or {}).get("agent_radius", 0.2))
         band = bool((check_kwargs or {}).get("wall_band", False))
+        short = []  # the floors with too little free floor
         for b, (v, report) in enumerate(zip(out, reports, strict=True)):
             v.free = report.navigable_fraction if band else report.free_fraction
             if any(f.startswith("navigable:") for f in report.failures):
-                v.at_fault.update(_slivers(model, pos[b], yaw[b], radius))
+                short.append(b)
+        if short:
+            for b, rows in zip(short, _slivers(model, pos[short], yaw[short], radius),
+                               strict=True):
+                out[b].at_fault.update(rows)
     if nb == 1:
         met = {k: np.array([ok]) for k, ok in
                model.satisfied(model.state(pos[0], yaw[0])).items()}
@@ -204,24 +210,27 @@ def _holding(model: ForceModel, pos: np.ndarray, binding: Binding) -> list[int]:
 
 
 def _slivers(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, radius: float
-             ) -> list[int]:
-    """Rows of the solid floor objects that leave a sliver of floor too narrow for the
-    agent (a gap of 3 cm up to its width) to a wall or to another solid object, or that
-    touch nothing (free floor lost all round): too little free floor is mended by
-    closing such gaps, widening them into walkways, or moving a lone object."""
-    st = model.state(pos, yaw)
+             ) -> list[list[int]]:
+    """For each of K floors (poses (K, N, 2) and (K, N)), the rows of the solid floor
+    objects that leave a sliver of floor too narrow for the agent (a gap of 3 cm up to
+    its width) to a wall or to another solid object, or that touch nothing (free floor
+    lost all round): too little free floor is mended by closing such gaps, widening them
+    into walkways, or moving a lone object."""
+    k, n = yaw.shape
     solid = ~np.asarray(model.walkable, dtype=bool)
     if solid.sum() == 0:
-        return []
-    wall_gap = wall_gaps(st)  # (N, W)
-    sep = st.separations.copy()
-    np.fill_diagonal(sep, np.inf)
-    sep[:, ~solid] = np.inf
+        return [[] for _ in range(k)]
+    st = State(pos.reshape(k * n, 2), yaw.reshape(k * n), np.tile(model.size, (k, 1)),
+               model.room, samples=k)
+    wall_gap = wall_gaps(st).reshape(k, n, -1)  # (K, N, W)
+    sep = st._separations()[:, :n, :n].copy()  # (K, N, N): each floor's own pairs
+    sep[:, np.arange(n), np.arange(n)] = np.inf
+    sep[:, :, ~solid] = np.inf
     lo, hi = 0.03, 2.0 * radius
-    narrow = ((wall_gap > lo) & (wall_gap < hi)).any(axis=1) | \
-        ((sep > lo) & (sep < hi)).any(axis=1)
-    alone = (wall_gap > lo).all(axis=1) & (sep > lo).all(axis=1)  # touching nothing
-    return np.flatnonzero((narrow | alone) & solid).tolist()
+    narrow = ((wall_gap > lo) & (wall_gap < hi)).any(axis=2) | \
+        ((sep > lo) & (sep < hi)).any(axis=2)
+    alone = (wall_gap > lo).all(axis=2) & (sep > lo).all(axis=2)  # touching nothing
+    return [np.flatnonzero(row).tolist() for row in (narrow | alone) & solid]
 
 
 @dataclass

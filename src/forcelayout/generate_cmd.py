@@ -30,6 +30,7 @@ import warnings
 from concurrent.futures import Executor, Future
 from pathlib import Path
 
+from forcelayout._text import one_line
 from forcelayout.cli import _min_rules, _repaired_line
 from forcelayout.dataset import layout_stem
 from forcelayout.diagnose import FewLayoutsWarning, feasibility_warnings_as_lines
@@ -73,11 +74,6 @@ def _remove_earlier_run(out: Path, name: str, overwrite: bool) -> None:
         (out / kept).unlink(missing_ok=True)
     if layouts:
         print(f"replaced {some} an earlier run wrote to {out}", file=sys.stderr, flush=True)
-
-
-def _shorten(line: str, most: int = 160) -> str:
-    """A failure line cut to ``most`` characters."""
-    return line if len(line) <= most else line[:most - 3].rstrip() + "..."
 
 
 def _draw(layout: Layout, path: Path, access: bool = False) -> None:
@@ -164,7 +160,7 @@ def run_generate(args: argparse.Namespace) -> int:
                         if f.split(":")[0] == top), None)
         print("rejections: " + ", ".join(f"{k} x{v}" for k, v in
                                          summary["failure_reasons"].items())
-              + (f" (e.g. {_shorten(example)})" if example else ""))
+              + (f" (e.g. {one_line(example, 160)})" if example else ""))
     fixed = _repaired_line(summary["repaired"], "samples", summary["attempted"], "samples")
     if fixed is not None:
         print(fixed)

@@ -26,6 +26,7 @@ from __future__ import annotations
 import string
 from dataclasses import dataclass, fields
 
+from forcelayout._text import one_line
 from forcelayout.rules import RuleInfo, available_rules, describe_rules
 
 __all__ = ["PromptTemplates", "DEFAULT_TEMPLATES", "vocabulary", "vocabulary_text", "render",
@@ -244,11 +245,6 @@ def vocabulary(pattern: str = "*") -> list[RuleInfo]:
     return out
 
 
-def _one_line(text: str, limit: int = 400) -> str:
-    flat = " ".join(text.split())
-    return flat if len(flat) <= limit else flat[: limit - 3].rstrip() + "..."
-
-
 #: One example binding per built-in rule, shown in the short vocabulary.
 RULE_EXAMPLES = {
     "at_wall": ("wardrobe",), "in_corner": ("bookshelf",), "in_middle": ("coffee_table",),
@@ -299,7 +295,7 @@ def vocabulary_text(infos: list[RuleInfo], *, detail: bool = False) -> str:
             lines.append(head)
             for i in group:
                 params = ", ".join(f"{k}={v.get('default')!r}" for k, v in i.params.items())
-                lines.append(f"- {i.name}: {_one_line(i.summary, 160)}"
+                lines.append(f"- {i.name}: {one_line(i.summary, 160)}"
                              + (f" Params: {params}." if params else "")
                              + f" Example: {_example(i)}")
         return "\n".join(lines)
@@ -313,7 +309,7 @@ def vocabulary_text(infos: list[RuleInfo], *, detail: bool = False) -> str:
             doc = i.doc
             if doc.startswith(i.summary):
                 doc = doc[len(i.summary):]
-            text = _one_line(f"{i.summary} {doc}")
+            text = one_line(f"{i.summary} {doc}", 400)
             params = ", ".join(
                 f"{k}={v.get('default')!r}" + (f" ({v['description']})" if v.get("description")
                                                else "")

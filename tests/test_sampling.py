@@ -406,3 +406,21 @@ def test_failure_reasons_count_samples_not_lines():
         SampleReport(seed=2, valid=False, failures=["collision: 'a' and 'b' overlap"])]
     gen = Generation(plan=plan, seed=0, layouts=[], reports=reports, seconds=1.0, wanted=1)
     assert gen.summary()["failure_reasons"] == {"collision": 2, "door": 1}
+
+
+def test_a_run_leaves_the_garbage_collector_as_it_found_it():
+    import gc
+
+    from forcelayout.baselines import rejection_sample
+
+    before = fl.generate(SMALL, 2, seed=5).layouts
+    assert gc.get_freeze_count() == 0  # the objects it froze for the run are thawed
+    gc.freeze()  # a caller's own frozen objects stay frozen, during a run and after it
+    try:
+        after = fl.generate(SMALL, 2, seed=5).layouts
+        assert gc.get_freeze_count() > 0
+        rejection_sample(SMALL, 1, seed=0, max_tries=5)
+        assert gc.get_freeze_count() > 0
+    finally:
+        gc.unfreeze()
+    assert [lay.poses for lay in after] == [lay.poses for lay in before]

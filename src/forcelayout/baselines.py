@@ -44,6 +44,7 @@ import numpy as np
 
 from forcelayout import geometry as geo
 from forcelayout import rules as registry
+from forcelayout._heap import older_objects_frozen
 from forcelayout.geometry import RoomGeometry
 from forcelayout.layout import Layout, Pose, SampleReport
 from forcelayout.plan import Plan
@@ -766,40 +767,41 @@ def rejection_sample(
         for key in dict.fromkeys(f.split(":", 1)[0] for f in reasons):
             failures[key] = failures.get(key, 0) + 1
 
-    while len(accepted) < n and tries < max_tries:
-        s = sample_seed(seed, tries)
-        tries += 1
-        t1 = time.perf_counter()
-        rng = np.random.default_rng(s)
-        floor, missing = _draw_floor(c, rng, draws)
-        if missing:
-            fail(["placement"])
-            continue
-        # the floor alone: its checks fail exactly as the full layout's would
-        early = Layout(plan, floor, s)
-        rep = check_layout(early, **kw)
-        if not rep.ok:
-            fail(rep.failures)
-            continue
-        unmet = sum(r.satisfied is False for r in early.rule_report())
-        if n_rules and 1.0 - unmet / n_rules < min_rule_satisfaction:
-            fail(["rules"])
-            continue
-        poses, more = _place_rest(plan, floor, rng)
-        if more:
-            fail(["missing"])
-            continue
-        lay = Layout(plan, poses, s)
-        rep = check_layout(lay, **kw) if len(poses) > len(floor) else rep
-        if not rep.ok:
-            fail(rep.failures)
-            continue
-        sat = lay.rule_satisfaction
-        if sat < min_rule_satisfaction:
-            fail(["rules"])
-            continue
-        lay.report.rule_satisfaction = sat
-        lay.report.seconds = time.perf_counter() - t1
-        accepted.append(lay)
+    with older_objects_frozen():  # as the library's own runs
+        while len(accepted) < n and tries < max_tries:
+            s = sample_seed(seed, tries)
+            tries += 1
+            t1 = time.perf_counter()
+            rng = np.random.default_rng(s)
+            floor, missing = _draw_floor(c, rng, draws)
+            if missing:
+                fail(["placement"])
+                continue
+            # the floor alone: its checks fail exactly as the full layout's would
+            early = Layout(plan, floor, s)
+            rep = check_layout(early, **kw)
+            if not rep.ok:
+                fail(rep.failures)
+                continue
+            unmet = sum(r.satisfied is False for r in early.rule_report())
+            if n_rules and 1.0 - unmet / n_rules < min_rule_satisfaction:
+                fail(["rules"])
+                continue
+            poses, more = _place_rest(plan, floor, rng)
+            if more:
+                fail(["missing"])
+                continue
+            lay = Layout(plan, poses, s)
+            rep = check_layout(lay, **kw) if len(poses) > len(floor) else rep
+            if not rep.ok:
+                fail(rep.failures)
+                continue
+            sat = lay.rule_satisfaction
+            if sat < min_rule_satisfaction:
+                fail(["rules"])
+                continue
+            lay.report.rule_satisfaction = sat
+            lay.report.seconds = time.perf_counter() - t1
+            accepted.append(lay)
     return RejectionResult(plan, int(seed), accepted, tries, time.perf_counter() - t0,
                            failures, int(max_tries), int(n))

@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from forcelayout._heap import older_objects_frozen
 from forcelayout.diagnose import (
     EmptyGenerationError,
     Feasibility,
@@ -142,7 +143,8 @@ def _solve_many(plan: Plan, seeds: list[int], opts: Options) -> list[Layout]:
     from forcelayout.validate.checks import reusing_floor_checks
 
     layouts = []
-    with reusing_floor_checks():  # a settled floor is not checked twice
+    # a settled floor is not checked twice; the collector's passes skip older objects
+    with reusing_floor_checks(), older_objects_frozen():
         placed = realise_batch(plan, [np.random.default_rng(s) for s in seeds], opts)
         for seed, p in zip(seeds, placed, strict=True):
             report = SampleReport(seed=seed, steps=p.steps, converged=p.converged,

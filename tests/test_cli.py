@@ -375,3 +375,25 @@ def test_validate_labels_each_note_infeasible_or_warning(tmp_path, capsys):
     assert lines[0].startswith("infeasible: rules[2] (far_from)")
     assert any(line.startswith("warning: ") and "floor free" in line for line in lines[1:])
     assert not any(line.startswith("infeasible: ") for line in lines[1:])
+
+
+def test_generate_warns_of_the_plan_as_it_samples_it(tmp_path, capsys):
+    """A decor bench that spans the room is a warning; with --no-decor the run leaves it
+    out, and its warnings with it."""
+    plan = {"name": "hall",
+            "room": {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]], "height": 2.6,
+                     "doors": [{"wall": 0, "offset": 0.5, "width": 0.9}]},
+            "objects": [{"id": "cabinet", "category": "cabinet", "size": [0.8, 0.4, 0.9],
+                         "primary": True},
+                        {"id": "bench", "category": "bench", "size": [3.8, 0.35, 0.45],
+                         "decor": True}],
+            "rules": [{"rule": "at_wall", "object": "cabinet"}]}
+    path = tmp_path / "hall.json"
+    path.write_text(json.dumps(plan))
+    spans = []
+    for extra in ([], ["--no-decor"]):
+        main(["generate", str(path), "-n", "1", "--max-attempts", "1", "--quiet",
+              "--format", "none", "--out", str(tmp_path / f"out{len(extra)}"), *extra])
+        spans.append(["'bench'" in w for w in capsys.readouterr().err.splitlines()
+                      if w.startswith("warning: ")])
+    assert any(spans[0]) and not any(spans[1])

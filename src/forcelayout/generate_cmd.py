@@ -37,7 +37,7 @@ from forcelayout.diagnose import FewLayoutsWarning, feasibility_warnings_as_line
 from forcelayout.errors import InputError
 from forcelayout.layout import Layout
 from forcelayout.plan import Plan
-from forcelayout.sampling import Options, generate, process_pool, stop_executor
+from forcelayout.sampling import Options, generate, plan_feasibility, process_pool, stop_executor
 from forcelayout.sources import load_plan
 
 __all__ = ["run_generate"]
@@ -89,11 +89,13 @@ def run_generate(args: argparse.Namespace) -> int:
         from forcelayout.ground_cmd import ground_for_command
 
         plan = ground_for_command([plan], args)[0].plan
-    from forcelayout.diagnose import feasibility
-
-    # what `validate` warns of (a tight plan, implausible sizes); the infeasible notes come
-    # with the feasibility warning of the run
-    feas = feasibility(plan)
+    opts = Options(relations=not args.no_relations, decor=not args.no_decor,
+                   check_kwargs={"access_clearance": True} if args.access else {},
+                   min_rule_satisfaction=_min_rules(args))
+    # what `validate` warns of (a tight plan, implausible sizes), for the plan as this run
+    # samples it (without decor with --no-decor); the infeasible notes come with the
+    # feasibility warning of the run
+    feas = plan_feasibility(plan, opts)
     for note in feas.notes[feas.blocking:]:
         print(f"warning: {note}", file=sys.stderr, flush=True)
     out: Path = args.out
@@ -115,9 +117,6 @@ def run_generate(args: argparse.Namespace) -> int:
                 drawing.append(executor.submit(_draw, lay, picture, args.access))
         written.append(stem)
 
-    opts = Options(relations=not args.no_relations, decor=not args.no_decor,
-                   check_kwargs={"access_clearance": True} if args.access else {},
-                   min_rule_satisfaction=_min_rules(args))
     start = time.perf_counter()
     try:
         with feasibility_warnings_as_lines():

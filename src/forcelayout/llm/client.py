@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any, Literal, Protocol, runtime_checkable
 
 from forcelayout._optional import import_optional
+from forcelayout._text import one_line
 
 __all__ = [
     "ChatClient",
@@ -85,11 +86,6 @@ def _rejects_format(e: LLMRequestError) -> bool:
     return False
 
 
-def _short(text: str, limit: int = 160) -> str:
-    flat = " ".join(text.split())
-    return flat if len(flat) <= limit else flat[:limit - 3] + "..."
-
-
 def estimate_tokens(messages: Sequence[Message]) -> int:
     """A rough token count of chat messages (characters / 4, plus a few per message)."""
     return sum(len(str(m.get("content", ""))) // CHARS_PER_TOKEN + 4 for m in messages)
@@ -107,7 +103,7 @@ def _context_message(where: str, detail: str, kwargs: dict[str, Any]) -> str:
             f"reply), more than {have}. Start the server with a context of at least 8192 "
             "tokens, 16384 to be safe: llama-cpp-python --n_ctx 16384, llama-server -c 16384, "
             "Ollama OLLAMA_CONTEXT_LENGTH=16384 (or num_ctx), vLLM --max-model-len 16384, "
-            f"LM Studio's context length setting (server said: {_short(detail)})")
+            f"LM Studio's context length setting (server said: {one_line(detail, 160)})")
 
 
 class LLMRequestError(RuntimeError):
@@ -281,7 +277,7 @@ class OpenAIChatClient:
                 log.warning("the server at %s rejected response_format %r (%s); asking with %s "
                             "for the rest of the session (set structured= / --structured to "
                             "skip this)", self.base_url or "api.openai.com", self.mode,
-                            _short(str(e)), _MODE_TEXT[lower])
+                            one_line(str(e), 160), _MODE_TEXT[lower])
                 self.mode = lower
         return self._send(sdk, kwargs)
 

@@ -41,6 +41,7 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
+from forcelayout._text import one_line
 from forcelayout.diagnose import FewLayoutsWarning, dominant_cause
 from forcelayout.layout import Layout
 from forcelayout.options import Options
@@ -60,7 +61,8 @@ __all__ = [
     "generate_validated",
 ]
 
-#: Longest reason kept from a judge, characters (verdicts are data from outside).
+#: Longest reason kept from a judge, characters, "..." included (verdicts are data from
+#: outside).
 MAX_REASON_CHARS = 500
 
 #: A plausibility judge: a layout in, a verdict (:class:`Verdict`, bool or mapping) out.
@@ -96,7 +98,7 @@ class Verdict(BaseModel):
         parts = [" ".join(str(r).split()) for r in self.reasons if str(r).strip()]
         parts += [f"{c.object}: {' '.join(c.complaint.split())}" for c in self.objects]
         text = "; ".join(parts) or ("plausible" if self.plausible else "the judge said no")
-        return text[:MAX_REASON_CHARS] + ("..." if len(text) > MAX_REASON_CHARS else "")
+        return one_line(text, MAX_REASON_CHARS)
 
 
 @dataclass
@@ -139,11 +141,6 @@ def _as_verdict(value: Any) -> Verdict:
             raise TypeError(f"the judge's answer is not a verdict: {problems}") from None
     raise TypeError(f"the judge returned {type(value).__name__}, not a verdict (give a Verdict, "
                     "a bool or a dict with 'plausible')")
-
-
-def _one_line(text: str) -> str:
-    text = " ".join(str(text).split())
-    return text[:MAX_REASON_CHARS] + ("..." if len(text) > MAX_REASON_CHARS else "")
 
 
 def _call(judge: Judge, layout: Layout, timeout: float | None) -> Any:
@@ -193,7 +190,8 @@ def judge_layout(judge: Judge, layout: Layout, *, timeout: float | None = None) 
         message = str(e) or type(e).__name__
         if not isinstance(e, TimeoutError | TypeError):
             message = f"{type(e).__name__}: {message}"
-        return Judgement("unjudged", None, _one_line(message), time.perf_counter() - t0)
+        return Judgement("unjudged", None, one_line(str(message), MAX_REASON_CHARS),
+                         time.perf_counter() - t0)
     status: Literal["plausible", "implausible"] = (
         "plausible" if verdict.plausible else "implausible")
     return Judgement(status, verdict, verdict.reason(), time.perf_counter() - t0)
@@ -512,7 +510,8 @@ def generate_validated(
             report = lay.report
             if not report.valid:
                 reason = "; ".join(report.failures) or "failed the checks"
-                result.candidates.append(Candidate(k, lay, "invalid", _one_line(reason)))
+                result.candidates.append(Candidate(k, lay, "invalid",
+                                                  one_line(str(reason), MAX_REASON_CHARS)))
                 continue
             if not seen.is_new(lay):
                 report.failures.append(DistinctLayouts.FAILURE)

@@ -393,7 +393,8 @@ def test_generate_warns_of_the_plan_as_it_samples_it(tmp_path, capsys):
     spans = []
     for extra in ([], ["--no-decor"]):
         main(["generate", str(path), "-n", "1", "--max-attempts", "1", "--quiet",
-              "--format", "none", "--out", str(tmp_path / f"out{len(extra)}"), *extra])
+              "--format", "none", "-o", str(tmp_path / f"out{len(extra)}"), *extra])
+        assert (tmp_path / f"out{len(extra)}" / "summary.json").exists()  # -o is --out
         spans.append(["'bench'" in w for w in capsys.readouterr().err.splitlines()
                       if w.startswith("warning: ")])
     assert any(spans[0]) and not any(spans[1])

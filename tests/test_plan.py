@@ -95,6 +95,16 @@ def test_an_unknown_object_with_no_close_match_lists_the_objects():
     assert "unknown object 'cot'. The plan's objects are 'bed'" in p.message
 
 
+def test_an_unknown_object_sharing_only_a_word_is_not_taken_for_it():
+    data = plan_with(rules__1__target="coffee_table")
+    data["objects"][0]["id"] = "dining_table"
+    data["rules"] = [r for r in data["rules"] if "bed" not in (r["object"], r.get("target"))]
+    data["rules"].append({"rule": "next_to", "object": "dining_table", "target": "coffee_table"})
+    found = [p.message for p in problems(data) if "coffee_table" in p.message]
+    assert found and all("Did you mean" not in m and "The plan's objects are" in m
+                         for m in found)
+
+
 def test_all_problems_reported_at_once():
     data = plan_with(rules__0__rule="nope", rules__1__object="ghost")
     data["room"]["doors"][0]["wall"] = 9

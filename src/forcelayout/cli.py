@@ -234,7 +234,7 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("plan", nargs="?", help="plan JSON file or a bundled plan name "
                    "(bedroom, living_room, home_office, l_shaped_studio)")
     g.add_argument("-n", type=_count(1), default=10, help="layouts wanted (default 10)")
-    g.add_argument("--out", type=Path, required=True, help="output folder")
+    g.add_argument("-o", "--out", type=Path, required=True, help="output folder")
     g.add_argument("--seed", type=_count(0), default=0, help="seed of the run (default 0)")
     g.add_argument("--workers", type=_count(1), default=1, help="processes (default 1)")
     g.add_argument("--max-attempts", type=_count(0), default=None, help="sample budget")

@@ -51,7 +51,7 @@ def add_dataset_parser(sub: Any, count: Any, share: Any) -> argparse.ArgumentPar
                    help="plan JSON file, folder of plan files, bundled plan name, or (with "
                         "forcelayout[llm]) a scene description in quotes")
     d.add_argument("-n", type=count(1), required=True, help="layouts per plan")
-    d.add_argument("--out", type=Path, required=True, help="the dataset's folder")
+    d.add_argument("-o", "--out", type=Path, required=True, help="the dataset's folder")
     d.add_argument("--seed", type=count(0), default=0, help="seed of the run (default 0)")
     where = d.add_mutually_exclusive_group()
     where.add_argument("--workers", type=count(1), default=1,

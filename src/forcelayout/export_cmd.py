@@ -141,7 +141,7 @@ def register(sub: Any) -> None:
     p.add_argument("layouts", nargs="+", type=Path, metavar="LAYOUT.json")
     p.add_argument("--format", required=True,
                    help=f"comma-separated formats: {_ACCEPTED}")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
+    p.add_argument("-o", "--out", type=Path, required=True, help="output folder")
     p.add_argument("--plan", default=None,
                    help="plan file or bundled name (default: the plan embedded in each layout "
                         "file, or the plan.json beside it)")

@@ -160,7 +160,7 @@ def register(sub: Any) -> None:
     g.add_argument("plan", help="plan JSON file or bundled plan name")
     g.add_argument("--assets", type=Path, required=True, metavar="DIR",
                    help="asset library folder (meshes + assets.json)")
-    g.add_argument("--out", type=Path, required=True, help="the grounded plan's JSON file")
+    g.add_argument("-o", "--out", type=Path, required=True, help="the grounded plan's JSON file")
     add_embedder_options(g)
     g.add_argument("-k", type=_positive_int, default=5, help="candidates kept per object "
                    "(in --report; default 5)")

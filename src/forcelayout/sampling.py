@@ -254,7 +254,9 @@ class Generation:
     reports : list of SampleReport
         One per attempted sample (accepted or not), in sample order.
     seconds : float
-        Wall time of the whole run.
+        Wall time of the whole run, from the call on: loading and preparing the plan
+        included (in a new process, the first run also loads the parts of the library it
+        uses, about a second).
     wanted : int or None
         The ``n`` asked for.
     feasibility : Feasibility or None
@@ -705,6 +707,7 @@ def generate(
     """
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 0:
         raise ValueError(f"n must be a whole number >= 0, got {n!r}")
+    t0 = time.perf_counter()  # the run's seconds count its set-up (loading, preparing the plan)
     opts = _options(options, kwargs, "generate",
                     ("seed", "executor", "max_attempts", "distinct_tol", "progress", "on_layout",
                      "options"))
@@ -721,7 +724,6 @@ def generate(
     feas = plan_feasibility(plan, opts)
     if not feas.ok:
         warnings.warn(FeasibilityWarning.of(plan.name, feas), stacklevel=2)
-    t0 = time.perf_counter()
     accepted: list[Layout] = []
     reports: list[SampleReport] = []
     bar = None

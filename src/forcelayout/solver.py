@@ -20,25 +20,30 @@ Same inputs give the same result, bit for bit, on the same machine.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import shapely
-from Box2D import (
-    b2_dynamicBody,
-    b2_staticBody,
-    b2BodyDef,
-    b2ChainShape,
-    b2FixtureDef,
-    b2PolygonShape,
-    b2World,
-)
 
 from forcelayout.forces import ForceModel, ForceTerm, join_terms
 from forcelayout.geometry import RoomGeometry, box_corners
 from forcelayout.options import SolverConfig
 from forcelayout.rules.base import State
+
+with warnings.catch_warnings():  # Box2D's SWIG wrappers warn of their own types when loaded
+    warnings.filterwarnings("ignore", r"builtin type (SwigPy\w+|swigvarlink) has no __module__",
+                            DeprecationWarning)
+    from Box2D import (
+        b2_dynamicBody,
+        b2_staticBody,
+        b2BodyDef,
+        b2ChainShape,
+        b2FixtureDef,
+        b2PolygonShape,
+        b2World,
+    )
 
 __all__ = ["SolverConfig", "SimulationResult", "simulate", "simulate_batch", "temperature"]
 

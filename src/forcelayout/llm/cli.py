@@ -178,7 +178,7 @@ def register(sub: Any) -> None:
     p = sub.add_parser("plan", help="plan a scene from a description with an LLM "
                                     "(OpenAI-compatible server)")
     p.add_argument("prompt", help="the scene in words, e.g. \"a student's bedroom\"")
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("-o", "--out", type=Path, default=None,
                    help="plan JSON file (default: print it); a folder with --variants")
     p.add_argument("--variants", type=int, default=0, metavar="K",
                    help=f"expand the prompt (a room type) into K distinct descriptions and plan "

@@ -424,3 +424,24 @@ def test_a_run_leaves_the_garbage_collector_as_it_found_it():
     finally:
         gc.unfreeze()
     assert [lay.poses for lay in after] == [lay.poses for lay in before]
+
+
+def test_a_room_too_full_to_walk_through_is_told_to_lose_furniture_not_to_sample_more():
+    crowded = {"name": "box_room",
+               "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]], "height": 2.5,
+                        "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}]},
+               "objects": [
+                   {"id": "bed", "category": "bed", "size": [1.4, 2.0, 0.5], "primary": True},
+                   {"id": "wardrobe", "category": "wardrobe", "size": [1.0, 0.55, 2.0]},
+                   {"id": "desk", "category": "desk", "size": [1.0, 0.5, 0.75]},
+                   {"id": "chest", "category": "chest", "size": [0.8, 0.45, 0.6]}],
+               "rules": [{"rule": "in_middle", "object": "bed"}]}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fl.generate(crowded, 2, seed=0, max_attempts=2, floor_attempts=1,
+                          check_kwargs={"min_free_fraction": 0.4})
+    assert res.feasibility.verdict == "tight" and len(res) == 0
+    hint = res.hint()
+    assert "fail 'navigable'" in hint
+    assert "before sampling the plan looked tight (standing apart the obstacles leave" in hint
+    assert "fewer or smaller objects or a larger room will do more than samples" in hint

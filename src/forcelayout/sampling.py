@@ -331,6 +331,12 @@ class Generation:
                 todo = ("the plan looked infeasible before sampling; loosen it (fewer or "
                         "smaller objects, a larger room, fewer wall rules) rather than "
                         "drawing more samples")
+        elif k < 0.1 * tried and (crowded := self._crowded()) is not None:
+            # samples do not mend a room too full to walk through
+            more = tried + math.ceil((n - k) * tried / k * 1.2) if k else 4 * tried
+            todo = (f"before sampling the plan looked tight ({crowded}): fewer or smaller "
+                    f"objects or a larger room will do more than samples (or try "
+                    f"{attempts(more)})")
         elif k > 0:
             more = tried + math.ceil((n - k) * tried / k * 1.2)
             todo = f"try {attempts(more)} (about {k / tried:.0%} of samples are accepted)"
@@ -339,6 +345,17 @@ class Generation:
         line = (f"only {k} of {n} layouts of plan {self.plan.name!r} from {tried} samples: "
                 f"{self._cause()}; {todo}")
         return " ".join(line.split())  # one line whatever the failure messages hold
+
+    def _crowded(self) -> str | None:
+        """The feasibility note on too little free floor, where most samples failed the
+        ``navigable`` check and the estimate had found the plan tight there."""
+        feas = self.feasibility
+        if feas is None or feas.verdict != "tight" or not self.reports:
+            return None
+        short = sum(any(f.startswith("navigable:") for f in r.failures) for r in self.reports)
+        if short <= 0.5 * len(self.reports):
+            return None
+        return next((note for note in feas.notes if "of the floor free" in note), None)
 
     @property
     def attempted(self) -> int:

@@ -1179,19 +1179,27 @@ class _Placer:
         draws = _Draws(rngs)
         q = int(self.parent[r])
         sides = self.sides[r]  # wall to keep free on the left and the right, metres
-        # square with the room, as settled
-        cyaw = draws.integers(4, tries) * (0.5 * np.pi)
-        corner = _corner_candidates(room, draws, tries, half[r]) if "corner" in places else None
-        loose = 0  # the first candidates, drawn with no wall kept free beside them
         opening = _opening_centres(room, w)
+        corner = "corner" in places
+        # an object taller than the sill of a window it should stand near draws twice as
+        # many spots near it, and keeps those clear of the windows' zones first: near a
+        # wide window most spots are in front of it
+        shy = (opening is not None and "window" in places and not corner and q < 0
+               and self.window is not None and bool(self.window.tall[:, r].any()))
+        k0 = 2 * tries if shy else tries
+        # square with the room, as settled
+        cyaw = draws.integers(4, k0) * (0.5 * np.pi)
+        corner = _corner_candidates(room, draws, tries, half[r]) if corner else None
+        loose = 0  # the first candidates, drawn with no wall kept free beside them
         if corner is not None:
             cand, cyaw = corner
         elif q >= 0:
             cand, cyaw = _child_candidates(room, draws, tries, w, np.full(nb, q), r, pos, yaw,
                                            half, self.radius, spread)
         elif "wall" in places:
-            near = None if opening is None else _near_opening(draws, tries, opening, w.reach)
-            cand, cyaw = _wall_candidates(room, draws, tries, half[r], near, sides)
+            near = None if opening is None else _near_opening(draws, k0, opening, w.reach)
+            cand, cyaw = _wall_candidates(room, draws, k0 if near is not None else tries,
+                                          half[r], near, sides)
             if self.either[r] and near is None:
                 # half the draws anywhere along a wall: the children that may stand on
                 # either side may also stand at another wall beside it (a bed near a corner)
@@ -1199,7 +1207,7 @@ class _Placer:
                 cand[:, :loose], cyaw[:, :loose] = _wall_candidates(room, draws, loose,
                                                                     half[r], None)
         elif opening is not None:
-            cand = _near_opening(draws, tries, opening, w.reach)
+            cand = _near_opening(draws, k0, opening, w.reach)
         elif "middle" in places:
             if w.reach > 0:  # evenly over the share of the room's extent its rules allow
                 ext = w.reach * (room.bounds[2:] - room.bounds[:2])
@@ -1232,7 +1240,30 @@ class _Placer:
         toward = _opening_turn(room, w.turns, places)
         if toward is not None:  # front towards the nearest window (or door)
             cyaw = geo.yaw_facing(geo.toward_nearest(cand, toward))
+        if shy:
+            cand, cyaw = self._clear_of_windows(r, cand, cyaw, k0, tries)
         return cand, cyaw, loose
+
+    def _clear_of_windows(self, r: int, cand: np.ndarray, cyaw: np.ndarray, k0: int,
+                          tries: int) -> tuple[np.ndarray, np.ndarray]:
+        """The first ``k0`` candidates (B, K) of row ``r`` cut to ``tries``: those clear of
+        the zones of the windows it is too tall for first, each group in draw order; the
+        candidates after the first ``k0`` as they are."""
+        window = self.window
+        z = window.tall[:, r]
+        head, head_yaw = cand[:, :k0], cyaw[:, :k0]
+        c, s = np.cos(head_yaw), np.sin(head_yaw)
+        sep = geo.obb_separation(window.centre[z][None, None] - head[:, :, None],
+                                 np.stack([c, s], axis=2)[:, :, None],
+                                 np.stack([-s, c], axis=2)[:, :, None],
+                                 self.half[r][None, None, None], window.lateral[z][None, None],
+                                 window.out[z][None, None], window.half[z][None, None])
+        order = np.argsort((sep < -0.02).any(axis=2), axis=1, kind="stable")[:, :tries]
+        cand = np.concatenate([np.take_along_axis(head, order[..., None], axis=1),
+                               cand[:, k0:]], axis=1)
+        cyaw = np.concatenate([np.take_along_axis(head_yaw, order, axis=1), cyaw[:, k0:]],
+                              axis=1)
+        return cand, cyaw
 
     def _best(self, r: int, placed: Sequence[Sequence[int]], pos: np.ndarray, yaw: np.ndarray,
               rngs: list[np.random.Generator], tries: int, spread: float

@@ -1184,9 +1184,9 @@ class _Placer:
         # an object taller than the sill of a window it should stand near draws twice as
         # many spots near it, and keeps those clear of the windows' zones first: near a
         # wide window most spots are in front of it
-        shy = (opening is not None and "window" in places and not corner and q < 0
-               and self.window is not None and bool(self.window.tall[:, r].any()))
-        k0 = 2 * tries if shy else tries
+        tall_by_window = (opening is not None and "window" in places and not corner and q < 0
+                          and self.window is not None and bool(self.window.tall[:, r].any()))
+        k0 = 2 * tries if tall_by_window else tries
         # square with the room, as settled
         cyaw = draws.integers(4, k0) * (0.5 * np.pi)
         corner = _corner_candidates(room, draws, tries, half[r]) if corner else None
@@ -1240,7 +1240,7 @@ class _Placer:
         toward = _opening_turn(room, w.turns, places)
         if toward is not None:  # front towards the nearest window (or door)
             cyaw = geo.yaw_facing(geo.toward_nearest(cand, toward))
-        if shy:
+        if tall_by_window:
             cand, cyaw = self._clear_of_windows(r, cand, cyaw, k0, tries)
         return cand, cyaw, loose
 

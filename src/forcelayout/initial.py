@@ -1249,16 +1249,11 @@ class _Placer:
         """The first ``k0`` candidates (B, K) of row ``r`` cut to ``tries``: those clear of
         the zones of the windows it is too tall for first, each group in draw order; the
         candidates after the first ``k0`` as they are."""
-        window = self.window
-        z = window.tall[:, r]
         head, head_yaw = cand[:, :k0], cyaw[:, :k0]
         c, s = np.cos(head_yaw), np.sin(head_yaw)
-        sep = geo.obb_separation(window.centre[z][None, None] - head[:, :, None],
-                                 np.stack([c, s], axis=2)[:, :, None],
-                                 np.stack([-s, c], axis=2)[:, :, None],
-                                 self.half[r][None, None, None], window.lateral[z][None, None],
-                                 window.out[z][None, None], window.half[z][None, None])
-        order = np.argsort((sep < -0.02).any(axis=2), axis=1, kind="stable")[:, :tries]
+        inside = self._in_window_zone(r, head, np.stack([c, s], axis=2),
+                                      np.stack([-s, c], axis=2))
+        order = np.argsort(inside, axis=1, kind="stable")[:, :tries]
         cand = np.concatenate([np.take_along_axis(head, order[..., None], axis=1),
                                cand[:, k0:]], axis=1)
         cyaw = np.concatenate([np.take_along_axis(head_yaw, order, axis=1), cyaw[:, k0:]],
@@ -1368,12 +1363,20 @@ class _Placer:
                               [placed[b] for b in sb])[:, 0]
         access = self._access_misses(r, cand, rgt, fwd, solid, pos, yaw, present)[:, 0]
         if window is not None and window.tall[:, r].any():  # tall: not in front of a window
-            z = window.tall[:, r]
-            sep = geo.obb_separation(window.centre[z][None, None] - cand[:, :, None],
-                                     rgt[:, :, None], fwd[:, :, None], half[r][None, None, None],
-                                     window.lateral[z][None, None], window.out[z][None, None],
-                                     window.half[z][None, None])
             # a failed check rejects a sample, an unmet rule may be within its tolerance:
             # a spot in a window zone ranks below one that misses any few rules
-            unmet += 4.0 * (sep < -0.02).any(axis=2)[:, 0]
+            unmet += 4.0 * self._in_window_zone(r, cand, rgt, fwd)[:, 0]
         return unmet + cramped, access
+
+    def _in_window_zone(self, r: int, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray
+                        ) -> np.ndarray:
+        """Whether footprints of row ``r`` at the candidates (B, K, 2), turned by their
+        right and front vectors (B, K, 2), reach into the zone of a window it is too tall
+        for (by more than 2 cm); shape (B, K)."""
+        window = self.window
+        z = window.tall[:, r]
+        sep = geo.obb_separation(window.centre[z][None, None] - cand[:, :, None],
+                                 rgt[:, :, None], fwd[:, :, None],
+                                 self.half[r][None, None, None], window.lateral[z][None, None],
+                                 window.out[z][None, None], window.half[z][None, None])
+        return (sep < -0.02).any(axis=2)

@@ -293,6 +293,11 @@ def test_the_all_pairs_matrices_refuse_a_stacked_state():
         _ = state.separations
     i = np.array([0, model.n])
     assert np.array_equal(state.peers(i)[1], np.arange(model.n, 2 * model.n))
+    # each sample's own matrix, as its state alone gives it
+    blocks = state.sample_separations
+    assert blocks.shape == (2, model.n, model.n)
+    for b in range(2):
+        assert np.array_equal(blocks[b], state.sample(b).separations)
 
 
 @pytest.mark.parametrize("name", ["near", "facing", "around", "at_wall", "under"])

@@ -223,7 +223,7 @@ def _slivers(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, radius: float
     st = State(pos.reshape(k * n, 2), yaw.reshape(k * n), np.tile(model.size, (k, 1)),
                model.room, samples=k)
     wall_gap = wall_gaps(st).reshape(k, n, -1)  # (K, N, W)
-    sep = st._separations()[:, :n, :n].copy()  # (K, N, N): each floor's own pairs
+    sep = st.sample_separations.copy()  # (K, N, N): each floor's own pairs
     sep[:, np.arange(n), np.arange(n)] = np.inf
     sep[:, :, ~solid] = np.inf
     lo, hi = 0.03, 2.0 * radius

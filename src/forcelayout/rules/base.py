@@ -349,6 +349,15 @@ class State:
         return self._separations()[0, : self.n, : self.n]
 
     @property
+    def sample_separations(self) -> np.ndarray:
+        """:attr:`separations` of each stacked sample's own pairs, shape (samples, rows, rows).
+
+        The ``[b]`` block is :attr:`separations` of :meth:`sample` ``(b)``.
+        """
+        r = self.rows
+        return self._separations()[:, :r, :r]
+
+    @property
     def door_separations(self) -> np.ndarray:
         """Clearance between each footprint and each door's swing square, shape (N, D)."""
         r = self.rows

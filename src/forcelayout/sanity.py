@@ -46,9 +46,9 @@ from forcelayout.plan import Plan, RuleSpec
 from forcelayout.rules import Rule
 from forcelayout.rules.base import ParamArrays, State
 
-__all__ = ["Finding", "plan_findings", "OutOfReach", "out_of_reach", "gap_band", "SPOT_STEP",
-           "CATEGORY_SIZES", "ROOM_AREAS", "ROOM_FURNITURE", "OPENING_WORDS",
-           "names_the_room", "category_key", "convex_corners", "room_kind",
+__all__ = ["Finding", "plan_findings", "OutOfReach", "out_of_reach", "off_the_walls",
+           "gap_band", "SPOT_STEP", "CATEGORY_SIZES", "ROOM_AREAS", "ROOM_FURNITURE",
+           "OPENING_WORDS", "names_the_room", "category_key", "convex_corners", "room_kind",
            "usual_size", "Severity", "MAX_TARGETS"]
 
 Severity = Literal["infeasible", "implausible"]
@@ -148,7 +148,8 @@ AREA_SLACK = 1.3      # a floor area is "far" from its room type's range beyond 
 _MAX_ASPECT = 2.5      # longer side / shorter side of an ordinary room
 #: Distinct targets of one positional relation (``left_of``, ``around``, ...) per object.
 MAX_TARGETS = 2
-#: Step of the sweep over the spots of an object bound near a door or a window, metres.
+#: Step of the sweep over the spots of an object bound near a door, a window or a wall,
+#: metres.
 SPOT_STEP = 0.05
 #: A spot this close to a clearance zone or past the floor's edge still counts as clear
 #: (the checks tolerate a sliver of overlap), metres.
@@ -636,25 +637,16 @@ def out_of_reach(plan: Plan) -> list[OutOfReach]:
     shapely.prepare(floor)
     zones_below = _zones_below(plan, geom)
 
-    def unary(spec: RuleSpec) -> tuple[Rule, object] | None:
-        rule = _rule(spec.rule)
-        if rule is None or spec.target is not None:
-            return None
-        try:
-            return rule, rule.Params.model_validate(dict(spec.params or {}))
-        except ValidationError:
-            return None
-
     out: list[OutOfReach] = []
     for k, spec in enumerate(plan.rules):
-        got = unary(spec) if spec.object in obstacles else None
+        got = _unary(spec) if spec.object in obstacles else None
         hint = getattr(got[0], "start", None) if got else None
         if got is None or hint is None or hint.place not in ("door", "window") or \
                 not hint.reach:
             continue
         rule, params = got
         walls = [(j, *w) for j, r in enumerate(plan.rules)
-                 if r.object == spec.object and (w := unary(r)) is not None
+                 if r.object == spec.object and (w := _unary(r)) is not None
                  and w[0].start is not None and w[0].start.place == "wall"]
         size = np.asarray(plan.object(spec.object).size, dtype=float)
         reach = float(getattr(params, hint.reach))
@@ -688,6 +680,79 @@ def out_of_reach(plan: Plan) -> list[OutOfReach]:
     return out
 
 
+def _unary(spec: RuleSpec) -> tuple[Rule, object] | None:
+    """A unary rule of the plan and its parameters, or None (a relation, an unknown rule,
+    parameters that do not validate)."""
+    rule = _rule(spec.rule)
+    if rule is None or spec.target is not None:
+        return None
+    try:
+        return rule, rule.Params.model_validate(dict(spec.params or {}))
+    except ValidationError:
+        return None
+
+
+def off_the_walls(plan: Plan) -> list[Finding]:
+    """Objects a wall rule binds that no stretch of wall can hold.
+
+    For each floor object bound by a rule whose start hint places it at a
+    ``"wall"`` (``at_wall``, plugins that declare the same), its spots with the
+    back against each wall are swept every :data:`SPOT_STEP` and judged by
+    that rule's own check and by the clearance the checks ask: inside the
+    floor, clear of the door swings and of the zones in front of windows
+    whose sill is below the object. An object with no such spot (a 3.2 m wall
+    unit in a room whose long walls hold a door and a window) is listed once,
+    with its first such rule.
+
+    Parameters
+    ----------
+    plan : Plan
+
+    Returns
+    -------
+    list of Finding
+        ``"infeasible"``, in the order of ``plan.rules``.
+    """
+    room = plan.room
+    obstacles = {o.id for o in plan.floor_objects() if not o.is_walkable}
+    geom = floor = zones_below = None
+    out: list[Finding] = []
+    seen: set[str] = set()
+    for k, spec in enumerate(plan.rules):
+        got = _unary(spec) if spec.object in obstacles and spec.object not in seen else None
+        hint = getattr(got[0], "start", None) if got else None
+        if got is None or hint is None or hint.place != "wall":
+            continue
+        seen.add(spec.object)
+        if geom is None:
+            geom = geo.RoomGeometry.from_room(room)
+            floor = geom.shape.buffer(_SPOT_SLACK)
+            shapely.prepare(floor)
+            zones_below = _zones_below(plan, geom)
+        rule, params = got
+        size = np.asarray(plan.object(spec.object).size, dtype=float)
+        try:
+            spots = _Spots(geom, floor, zones_below(float(size[2])), size, rule,
+                           [(k, rule, params)])
+            if spots.any_met(params):
+                continue
+        except Exception:  # noqa: BLE001 - a plugin rule whose check needs more than a
+            continue  # lone object's pose: nothing said rather than no findings at all
+        low = any(w.sill < size[2] - 1e-9 and w.clearance > 0 for w in room.windows)
+        zones = " and ".join(
+            ["the door swings"] * bool(room.doors)
+            + [f"the zones in front of the windows whose sill is below its {size[2]:g} m"] * low)
+        clear = f" is clear of {zones}" if zones else " holds it"
+        fix = f"make {spec.object!r} narrower"
+        fix += ", move or narrow the openings in the way" if zones else ""
+        fix += f" or drop rules[{k}]"
+        out.append(Finding(f"rules[{k}] ({spec.rule})",
+                           f"{spec.rule}({spec.object}) cannot be met: no stretch of wall "
+                           f"{size[0]:g} m long{clear}", fix, severity="infeasible",
+                           refs=(f"rules[{k}]",)))
+    return out
+
+
 def plan_findings(plan: Plan) -> list[Finding]:
     """Everything impossible or implausible about a valid plan, infeasible first.
 
@@ -696,7 +761,9 @@ def plan_findings(plan: Plan) -> list[Finding]:
     ``near_window``: a rule whose start hint places it there within a reach)
     with no spot within that reach clear of the door swings and of the zones
     in front of windows whose sill is below it (against a wall when a wall
-    rule binds it too; :func:`out_of_reach`); one object
+    rule binds it too; :func:`out_of_reach`); an object bound to a wall that
+    no stretch of wall clear of them holds (:func:`off_the_walls`, said in
+    place of its :func:`out_of_reach` finding); one object
     both ``far_from`` and close to the same target, or
     bound by opposite rules (``in_front_of`` and ``behind``, ``at_wall`` and
     ``in_middle``, ...); duplicated rules; one object bound by one positional
@@ -715,7 +782,11 @@ def plan_findings(plan: Plan) -> list[Finding]:
     -------
     list of Finding
     """
-    out = [*_rule_findings(plan), *(u.finding for u in out_of_reach(plan)),
+    walls = off_the_walls(plan)
+    stuck = {plan.rules[int(f.refs[0][6:-1])].object for f in walls}
+    out = [*_rule_findings(plan), *walls,
+           *(u.finding for u in out_of_reach(plan)
+             if plan.rules[u.rule].object not in stuck),  # said once, the simpler way
            *_size_findings(plan),
            *_room_findings(plan)]
     return sorted(out, key=lambda f: f.severity != "infeasible")

@@ -42,7 +42,7 @@ from pydantic import ValidationError
 from forcelayout import geometry as geo
 from forcelayout import rules as registry
 from forcelayout.errors import UnknownRuleError
-from forcelayout.plan import Plan, RuleSpec
+from forcelayout.plan import Plan, Room, RuleSpec
 from forcelayout.rules import Rule
 from forcelayout.rules.base import ParamArrays, State
 
@@ -579,6 +579,17 @@ class _Spots:
         return ok
 
 
+def _zones_in_the_way(room: Room, height: float) -> tuple[bool, str]:
+    """Whether a window's zone keeps out an object ``height`` tall, and the zones the checks
+    keep it out of, in words: "the door swings and the zones in front of the windows whose
+    sill is below its 2 m" (empty for none)."""
+    low = any(w.sill < height - 1e-9 and w.clearance > 0 for w in room.windows)
+    zones = " and ".join(
+        ["the door swings"] * bool(room.doors)
+        + [f"the zones in front of the windows whose sill is below its {height:g} m"] * low)
+    return low, zones
+
+
 @dataclass(frozen=True)
 class OutOfReach:
     """A rule that binds an object near a door or a window no spot within its reach allows.
@@ -659,10 +670,7 @@ def out_of_reach(plan: Plan) -> list[OutOfReach]:
                           if spots.any_met(params.model_copy(update={hint.reach: x}))), None)
         except Exception:  # noqa: BLE001 - a plugin rule whose check needs more than a
             continue  # lone object's pose: nothing said rather than no findings at all
-        low = any(w.sill < size[2] - 1e-9 and w.clearance > 0 for w in room.windows)
-        zones = " and ".join(
-            ["the door swings"] * bool(room.doors)
-            + [f"the zones in front of the windows whose sill is below its {size[2]:g} m"] * low)
+        low, zones = _zones_in_the_way(room, float(size[2]))
         where = "against a wall " if walls else ""
         both = (f"{spec.rule}({spec.object}) and "
                 f"{', '.join(f'{plan.rules[j].rule}({spec.object})' for j, *_ in walls)}"
@@ -738,10 +746,7 @@ def off_the_walls(plan: Plan) -> list[Finding]:
                 continue
         except Exception:  # noqa: BLE001 - a plugin rule whose check needs more than a
             continue  # lone object's pose: nothing said rather than no findings at all
-        low = any(w.sill < size[2] - 1e-9 and w.clearance > 0 for w in room.windows)
-        zones = " and ".join(
-            ["the door swings"] * bool(room.doors)
-            + [f"the zones in front of the windows whose sill is below its {size[2]:g} m"] * low)
+        low, zones = _zones_in_the_way(room, float(size[2]))
         clear = f" is clear of {zones}" if zones else " holds it"
         fix = f"make {spec.object!r} narrower"
         fix += ", move or narrow the openings in the way" if zones else ""

@@ -103,7 +103,7 @@ def test_generate_on_workers_has_every_picture_drawn_before_it_returns(tmp_path)
     assert main(["generate", "bedroom", "-n", "3", "--out", str(one), "--quiet",
                  "--format", "svg"]) == 0
     assert main(["generate", "bedroom", "-n", "3", "--out", str(two), "--quiet",
-                 "--format", "svg", "--workers", "2"]) == 0
+                 "--pictures", "svg", "--workers", "2"]) == 0  # as dataset names it
     files = sorted(p.name for p in one.glob("bedroom_*"))
     assert len(files) == 6 and files == sorted(p.name for p in two.glob("bedroom_*"))
     for name in files:

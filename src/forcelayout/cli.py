@@ -238,8 +238,9 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--seed", type=_count(0), default=0, help="seed of the run (default 0)")
     g.add_argument("--workers", type=_count(1), default=1, help="processes (default 1)")
     g.add_argument("--max-attempts", type=_count(0), default=None, help="sample budget")
-    g.add_argument("--format", choices=["png", "svg", "none"], default="png",
-                   help="picture per layout (default png)")
+    g.add_argument("--format", "--pictures", dest="format", choices=["png", "svg", "none"],
+                   default="png", help="picture per layout (default png; --pictures as for "
+                   "dataset)")
     g.add_argument("--no-relations", action="store_true", help="ablation: no relation forces")
     g.add_argument("--no-decor", action="store_true", help="ablation: drop decor objects")
     g.add_argument("--access", action="store_true", help=ACCESS_HELP)

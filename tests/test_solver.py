@@ -141,7 +141,7 @@ def test_a_settle_that_does_not_pass_yet_goes_on_once(monkeypatch):
     opts = fl.Options(solver=SolverConfig(settle_steps=6))
     verdicts = []
 
-    def judge(model, pos, yaw, check_kwargs=None, *, checks=True, blockers=True):
+    def judge(model, pos, yaw, check_kwargs=None, *, checks=True, blockers=True, walls=True):
         for _ in pos:
             verdicts.append(FloorVerdict() if verdicts else FloorVerdict(["collision: x"], {0}))
         return verdicts[-len(pos):]

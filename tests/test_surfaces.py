@@ -460,3 +460,49 @@ def test_wall_units_over_a_row_of_counters_stay_over_their_targets():
         assert not out.missing
         report = fl.Layout(plan, out.poses).rule_report()
         assert all(r.satisfied for r in report), [r.label for r in report if not r.satisfied]
+
+
+def test_a_floor_leaving_a_wall_object_nowhere_to_hang_fails_its_verdict():
+    """A painting above a sofa: with the sofa under a window (its band above the sofa is
+    all window) the floor's verdict fails on the walls, the sofa at fault, before the
+    sample would fail with the painting missing; at the wall without a window it passes.
+    A mirror with no target needs a free stretch of some wall: with every wall lined
+    with tall cabinets it has none, and the cabinets are at fault."""
+    from forcelayout.forces import ForceModel
+    from forcelayout.verdict import FloorVerdict, judge_floor
+
+    plan = fl.Plan.from_dict({
+        "name": "sofa under a window",
+        "room": {"polygon": [[0, 0], [4, 0], [4, 4], [0, 4]], "height": 2.5,
+                 "doors": [{"wall": 0, "offset": 3.4, "width": 0.8}],
+                 "windows": [{"wall": 2, "offset": 2.0, "width": 2.4, "sill": 0.9,
+                              "height": 1.5}]},
+        "objects": [{"id": "sofa", "category": "sofa", "size": [2.0, 0.9, 0.85]},
+                    {"id": "painting", "category": "painting", "size": [0.9, 0.04, 0.6]}],
+        "rules": [{"rule": "at_wall", "object": "sofa"},
+                  {"rule": "above", "object": "painting", "target": "sofa"}]})
+    model = ForceModel(plan)
+    under = judge_floor(model, np.array([[2.0, 3.54]]), np.array([np.pi]))
+    assert any(f.startswith("walls:") and "'painting'" in f for f in under.failures)
+    assert model.ids.index("sofa") in under.at_fault
+    apart = judge_floor(model, np.array([[0.46, 2.0]]), np.array([-np.pi / 2]))
+    assert not any(f.startswith("walls:") for f in apart.failures)
+
+    def lined(walls: int) -> FloorVerdict:
+        cabinets = [{"id": f"cabinet_{k}", "category": "cabinet", "size": [3.9, 0.4, 2.2]}
+                    for k in range(walls)]
+        plan = fl.Plan.from_dict({
+            "name": "lined room",
+            "room": {"polygon": [[0, 0], [5, 0], [5, 5], [0, 5]], "height": 2.5},
+            "objects": [*cabinets,
+                        {"id": "mirror", "category": "mirror", "size": [0.9, 0.03, 1.0]}],
+            "rules": [{"rule": "on_wall_mid", "object": "mirror"}]})
+        # each cabinet against a wall, along it
+        pos = np.array([[2.5, 0.2], [4.8, 2.5], [2.5, 4.8], [0.2, 2.5]])[:walls]
+        yaw = np.array([0.0, np.pi / 2, np.pi, -np.pi / 2])[:walls]
+        return judge_floor(ForceModel(plan), pos, yaw)
+
+    every = lined(4)
+    assert any(f.startswith("walls:") and "'mirror'" in f for f in every.failures)
+    assert every.at_fault == {0, 1, 2, 3}
+    assert not any(f.startswith("walls:") for f in lined(3).failures)

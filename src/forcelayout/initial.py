@@ -780,11 +780,13 @@ def _judging(model: ForceModel, pos: np.ndarray, yaw: np.ndarray, *, blockers: b
 
     Rows that are not objects of the plan (an area's rectangle) are not
     checked here: their members are checked once the area is carried into
-    the room.
+    the room. Nor are the wall objects' stretches of wall: the simulation and
+    the repair still move what stands under a window; the candidates already
+    lean away from leaving an object above them no room.
     """
     known = set(model.plan.ids)
     return JudgeRequest(model, pos, yaw, checks=all(oid in known for oid in model.ids),
-                        blockers=blockers)
+                        blockers=blockers, walls=False)
 
 
 def propose_poses(

@@ -18,6 +18,7 @@ from forcelayout.forces import ForceModel
 from forcelayout.layout import Layout, Pose
 from forcelayout.rules.base import State
 from forcelayout.rules.physical import wall_gaps
+from forcelayout.surfaces.walls import unhung
 from forcelayout.validate.checks import check_floors
 
 __all__ = ["FloorVerdict", "JudgeRequest", "judge_floor", "judge_floors", "allowed_misses"]
@@ -105,7 +106,8 @@ def allowed_misses(n_bindings: int, min_rule_satisfaction: float) -> int:
 
 
 def judge_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
-                check_kwargs: dict | None = None, *, checks: bool = True) -> FloorVerdict:
+                check_kwargs: dict | None = None, *, checks: bool = True,
+                walls: bool = True) -> FloorVerdict:
     """Check a floor arrangement and name the objects at fault.
 
     Parameters
@@ -120,18 +122,24 @@ def judge_floor(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
         Run the deterministic checks (default); ``False`` judges the rules
         alone (rows that are not objects of the plan, e.g. an area's
         rectangle, cannot be checked).
+    walls : bool
+        On a floor that passes every check, judge whether each wall object
+        finds a free stretch of wall (:func:`forcelayout.surfaces.walls.unhung`:
+        ``walls: ...`` failures, the floor objects in the way at fault), as
+        the wall stage will look for one (default); start poses are judged
+        without (the simulation still moves what stands under a window).
 
     Returns
     -------
     FloorVerdict
     """
     return judge_floors(model, np.asarray(pos)[None], np.asarray(yaw)[None], check_kwargs,
-                        checks=checks)[0]
+                        checks=checks, walls=walls)[0]
 
 
 def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
                  check_kwargs: dict | None = None, *, checks: bool = True,
-                 blockers: bool = True) -> list[FloorVerdict]:
+                 blockers: bool = True, walls: bool = True) -> list[FloorVerdict]:
     """:func:`judge_floor` for B arrangements of one model, poses (B, N, 2) and (B, N).
 
     The checks run for all of them at once
@@ -160,6 +168,24 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
                     v.at_fault.update(row[n] for n in _QUOTED.findall(fail) if n in row)
             for blockers in report.blocked_by.values():
                 v.at_fault.update(row[n] for n in blockers if n in row)
+        # the wall objects that would find no wall to hang on, judged on the floors that
+        # pass every check (where a sample would go on to the walls and fail with them
+        # missing: a painting above a sofa that stands under a window)
+        clean = [b for b, report in enumerate(reports) if walls and not report.failures]
+        if clean:
+            for b, missing in zip(clean, unhung(model.compiled, list(model.ids), pos[clean],
+                                                yaw[clean]), strict=True):
+                v = out[b]
+                for oid, target, near in missing:
+                    if target is not None:
+                        v.failures.append(f"walls: no room for {oid!r} on the wall above "
+                                          f"{target!r} (doors, windows or furniture there)")
+                        v.at_fault.add(row[target])
+                    else:
+                        v.failures.append(f"walls: no free stretch of wall for {oid!r} "
+                                          "(doors, windows and the furniture by the walls "
+                                          "block it)")
+                        v.at_fault.update(row[n] for n in near)
         radius = float((check_kwargs or {}).get("agent_radius", 0.2))
         band = bool((check_kwargs or {}).get("wall_band", False))
         short = []  # the floors with too little free floor
@@ -246,7 +272,7 @@ class JudgeRequest:
     yaw : ndarray, shape (N,) or (M, N)
         One arrangement, answered with its verdict, or M, answered with a list of M.
     check_kwargs : dict, optional
-    checks : bool
+    checks, walls : bool
         As for :func:`judge_floor`.
     blockers : bool
         As for :func:`judge_floors`.
@@ -258,11 +284,12 @@ class JudgeRequest:
     check_kwargs: dict | None = None
     checks: bool = True
     blockers: bool = True
+    walls: bool = True
 
     def key(self) -> tuple:
         """Requests with equal keys are judged as one batch."""
         kw = None if self.check_kwargs is None else tuple(sorted(self.check_kwargs.items()))
-        return (id(self.model), kw, self.checks, self.blockers)
+        return (id(self.model), kw, self.checks, self.blockers, self.walls)
 
     @staticmethod
     def run(requests: list[JudgeRequest]) -> list[FloorVerdict | list[FloorVerdict]]:
@@ -273,7 +300,7 @@ class JudgeRequest:
         pos = np.concatenate([q.pos.reshape(-1, n, 2) for q in requests])
         yaw = np.concatenate([q.yaw.reshape(-1, n) for q in requests])
         verdicts = judge_floors(first.model, pos, yaw, first.check_kwargs, checks=first.checks,
-                                blockers=first.blockers)
+                                blockers=first.blockers, walls=first.walls)
         out: list[FloorVerdict | list[FloorVerdict]] = []
         at = 0
         for q, m in zip(requests, many, strict=True):

@@ -32,7 +32,7 @@ from forcelayout.surfaces.plane import (
 )
 
 __all__ = ["EYE_LEVEL", "wall_pose", "wall_band", "free_wall_stretches", "hanging_centres",
-           "back_wall", "place_on_walls"]
+           "back_wall", "place_on_walls", "unhung"]
 
 #: Eye level, metres: wall objects settle with their centre near this height.
 EYE_LEVEL = 1.6
@@ -385,17 +385,9 @@ def _wall_spot(length: float, blocks: list[Block], w: float, h: float, low: floa
     """
     if high - low < h:
         return None
-    pref = float(np.clip(EYE_LEVEL - h / 2, low, high - h))
-    edges = [b[3] for b in blocks] + [b[2] - h for b in blocks]
-    edges = sorted({float(e) for e in edges if low <= e <= high - h},
-                   key=lambda e: abs(e + h / 2 - EYE_LEVEL))
-    heights = [pref, *edges[:16], low, high - h, *rng.uniform(low, high - h, 4).tolist()]
+    heights = [*_heights(blocks, h, low, high), *rng.uniform(low, high - h, 4).tolist()]
     for v in heights:
-        ranges = [(a + w / 2, b - w / 2) for a, b in free_intervals(length, blocks, v, v + h)
-                  if b - a >= w]
-        if span is not None:
-            ranges = [(max(a, span[0]), min(b, span[1])) for a, b in ranges]
-            ranges = [(a, b) for a, b in ranges if b >= a]
+        ranges = _centres(length, blocks, w, h, v, span)
         if not ranges:
             continue
         lens = np.array([b - a for a, b in ranges]) + 1e-6
@@ -406,6 +398,121 @@ def _wall_spot(length: float, blocks: list[Block], w: float, h: float, low: floa
             u = min((float(np.clip(mid, a, b)) for a, b in ranges), key=lambda x: abs(x - mid))
         return u, float(v)
     return None
+
+
+def _heights(blocks: list[Block], h: float, low: float, high: float) -> list[float]:
+    """The bottoms :func:`_wall_spot` tries first for an object ``h`` tall in the band: eye
+    level, just above or below each obstacle (nearest eye level first), the band's ends."""
+    pref = float(np.clip(EYE_LEVEL - h / 2, low, high - h))
+    edges = [b[3] for b in blocks] + [b[2] - h for b in blocks]
+    edges = sorted({float(e) for e in edges if low <= e <= high - h},
+                   key=lambda e: abs(e + h / 2 - EYE_LEVEL))
+    return [pref, *edges[:16], low, high - h]
+
+
+def _centres(length: float, blocks: list[Block], w: float, h: float, v: float,
+             span: tuple[float, float] | None) -> list[tuple[float, float]]:
+    """Where the centre of a ``w x h`` object with its bottom at ``v`` can lie on a wall
+    (inside ``span`` where given), as ``(u0, u1)`` ranges."""
+    ranges = [(a + w / 2, b - w / 2) for a, b in free_intervals(length, blocks, v, v + h)
+              if b - a >= w]
+    if span is not None:
+        ranges = [(max(a, span[0]), min(b, span[1])) for a, b in ranges]
+        ranges = [(a, b) for a, b in ranges if b >= a]
+    return ranges
+
+
+def unhung(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
+           reach: float = 0.3) -> list[list[tuple[str, str | None, list[str]]]]:
+    """The wall objects that would find no free stretch of wall, for floor arrangements.
+
+    Judged as :func:`place_on_walls` looks for a first spot, with the doors,
+    windows and the floor objects within ``reach`` metres of a wall, and what
+    stands on them (where on their tops is not known yet: each such object as
+    wide as it is, over the middle of its parent, on the parent's top), each
+    wall object on its own: one that hangs above a floor object (``above``)
+    anywhere over it on the wall behind it, any other on its own wall or on any
+    wall. Wall objects whose target is not on the floor are not judged.
+
+    Parameters
+    ----------
+    cp : CompiledPlan
+    ids : list of str
+        The floor objects (rows of ``pos``).
+    pos : ndarray, shape (B, N, 2)
+    yaw : ndarray, shape (B, N)
+        B floor arrangements.
+    reach : float
+        As for :func:`place_on_walls`.
+
+    Returns
+    -------
+    list of list of (str, str or None, list of str)
+        Per arrangement, each wall object with no room, its floor target (None for
+        one without a target) and, without a target, the floor objects by the walls
+        it looked at that reach into its band.
+    """
+    specs = [b for b in cp.on("wall") if b.target is None or b.target in ids]
+    out: list[list[tuple[str, str | None, list[str]]]] = [[] for _ in range(len(pos))]
+    if not specs:
+        return out
+    room, plan = cp.room, cp.plan
+    size = cp.size(ids)
+    tops = size[:, 2]
+    row = {oid: k for k, oid in enumerate(ids)}
+    openings = {w: opening_blocks(plan, w) for w in range(room.n_walls)}
+    # what stands on each floor object: (row, width, top of it)
+    loads = [(row[b.target], float(cp.size([b.object])[0, 0]),
+              float(tops[row[b.target]] + cp.size([b.object])[0, 2]))
+             for b in cp.on("top") if b.target in row]
+    high_top = tops.copy()  # each floor object's top, or of what stands on it
+    for r, _, top in loads:
+        high_top[r] = max(high_top[r], top)
+    for k in range(len(pos)):
+        corners = box_corners(pos[k], yaw[k], size[:, :2] * 0.5)
+        blocks: dict[int, list[Block]] = {}  # of the walls looked at
+        for b in specs:
+            w, _, h = cp.size([b.object])[0]
+            if b.target is not None:
+                t = row[b.target]
+                low, high = wall_band(b, plan.room.height, float(tops[t]))
+                front = front_vectors(np.array([yaw[k, t]]))
+                wall = int(back_wall(room, corners[t:t + 1], front, *target_stand(b))[0][0])
+                u = corners[t] @ room.tangent[wall] - room.tangent_offset[wall]
+                spans: list[tuple[float, float] | None] = [(float(u.min()), float(u.max()))]
+                walls = [wall]
+            else:
+                low, high = wall_band(b, plan.room.height)
+                pinned = getattr(b.params, "wall", None)
+                walls = [int(pinned)] if pinned is not None else list(range(room.n_walls))
+                spans = [None]
+            for wall in walls:
+                if wall not in blocks:
+                    blocks[wall] = (openings[wall]
+                                    + _object_blocks(room, wall, corners, tops, reach)
+                                    + _load_blocks(room, wall, corners, loads, reach))
+            if high - low < h or not any(
+                    _centres(float(room.length[wall]), blocks[wall], w, h, v, span)
+                    for wall in walls for span in spans
+                    for v in _heights(blocks[wall], h, low, high)):
+                near = [] if b.target is not None else [
+                    ids[r] for r in range(len(ids)) if high_top[r] > low
+                    and any(_object_blocks(room, wall, corners[r:r + 1], tops[r:r + 1], reach)
+                            for wall in walls)]
+                out[k].append((b.object, b.target, near))
+    return out
+
+
+def _load_blocks(room: RoomGeometry, wall: int, corners: np.ndarray,
+                 loads: list[tuple[int, float, float]], reach: float) -> list[Block]:
+    """What stands on the floor objects within ``reach`` of a wall, as :func:`unhung`
+    guesses it: ``(row, width, top)`` each over the middle of its parent's extent."""
+    out = []
+    for r, width, top in loads:
+        for u0, u1, _, _ in _object_blocks(room, wall, corners[r:r + 1], np.zeros(1), reach):
+            mid, half = 0.5 * (u0 + u1), 0.5 * min(width, u1 - u0)
+            out.append((mid - half, mid + half, 0.0, top))
+    return out
 
 
 def _wall_plane(cp: CompiledPlan, wall: int,

@@ -81,6 +81,23 @@ def test_facing_turns_the_front_towards_the_target():
     assert not ok
 
 
+def test_facing_a_long_target_is_square_to_the_stretch_in_front():
+    """A stool at the end of a 1.8 m counter's long side, square to it, faces the counter
+    (its centre is 48 degrees off the stool's front): no turn, no slide towards the middle;
+    one turned 40 degrees away does not face it and is turned back to square."""
+    counter = [1.8, 0.6]
+    at_end = [1.65, 2.4]  # 0.65 m left of the counter's centre (2.3, 1.75), 0.35 m behind
+    f, tau, ok, _ = run("facing", at_end, [2.3, 1.75], yaw=np.pi, target_size=counter)
+    assert ok and tau == 0 and np.all(f == 0)
+    _, tau, ok, _ = run("facing", at_end, [2.3, 1.75], yaw=np.pi + np.radians(40),
+                        target_size=counter)
+    assert not ok and tau < 0
+    # a small target is faced at its centre, as before
+    _, _, ok, _ = run("facing", [3.0, 1.75], [1.0, 1.75], yaw=np.pi / 2 + np.radians(20),
+                      target_size=[0.1, 0.1])
+    assert ok
+
+
 def test_face_same_as_matches_the_heading():
     _, tau, ok, _ = run("face_same_as", [3.0, 1.75], [1.0, 1.75], yaw=0.5)
     assert tau < 0 and not ok

@@ -29,6 +29,7 @@ __all__ = [
     "right_vectors",
     "yaw_facing",
     "toward_nearest",
+    "nearest_in_box",
     "box_corners",
     "box_sides",
     "box_gap",
@@ -75,6 +76,21 @@ def toward_nearest(points: np.ndarray, centres: np.ndarray) -> np.ndarray:
     d = np.asarray(centres, dtype=float)[None] - points.reshape(-1, 1, 2)
     k = np.argmin((d * d).sum(-1), axis=1)
     return d[np.arange(len(d)), k].reshape(points.shape)
+
+
+def nearest_in_box(points: np.ndarray, centre: np.ndarray, right: np.ndarray,
+                   front: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """The point of each oriented rectangle nearest each of ``points``: the point itself
+    where it lies inside. All arrays (..., 2), broadcast; shape of the broadcast.
+
+    >>> nearest_in_box(np.array([3.0, 0.2]), np.zeros(2), np.array([1.0, 0.0]),
+    ...                np.array([0.0, 1.0]), np.array([1.0, 0.5])).tolist()
+    [1.0, 0.2]
+    """
+    d = points - centre
+    lx = np.clip((d * right).sum(-1), -half[..., 0], half[..., 0])
+    ly = np.clip((d * front).sum(-1), -half[..., 1], half[..., 1])
+    return centre + right * lx[..., None] + front * ly[..., None]
 
 
 def right_vectors(yaw: np.ndarray) -> np.ndarray:

@@ -407,9 +407,16 @@ def _child_candidates(room, draws: _Draws, k, wants: _Wants, q: np.ndarray, r, p
         centred = draws.random(k) < 0.5
         lat = np.where(centred, draws.normal(0.15, k), draws.uniform(-reach, reach, k))
         cand = pq + sign * fq * dist[..., None] + rq * lat[..., None]
-        if "face_target" in turns:
-            return cand, geo.yaw_facing((pq - cand).reshape(-1, 2)).reshape(nb, k)
+        if "face_target" in turns:  # towards the nearest point of the parent (facing)
+            return cand, _facing(cand, pq, rq, fq, hq)
         return cand, same
+    if places & _SIDE_PLACES and "face_target" in turns and "wall" not in places:
+        # at the side, turned to it: anywhere along it (three stools on the left of an
+        # island), square to it
+        reach = np.maximum(hq[:, 1] - half[r, 0], 0.0)[:, None]
+        cand = (pq + rq * (side[..., None] * (hq[:, None, 0:1] + half[r, 1] + gap))
+                + fq * draws.uniform(-reach, reach, k)[..., None])
+        return cand, _facing(cand, pq, rq, fq, hq)
     if places & _SIDE_PLACES:
         wall = (_back_walls(room, pos[bi, q], yq, hq) if "wall" in places
                 else np.full(nb, -1))
@@ -472,10 +479,24 @@ def _child_candidates(room, draws: _Draws, k, wants: _Wants, q: np.ndarray, r, p
     if "wall" in places:
         return _snap_to_wall(room, cand, half[r])
     if "face_target" in turns:
-        return cand, geo.yaw_facing((pq - cand).reshape(-1, 2)).reshape(nb, k)
+        return cand, _facing(cand, pq, rq, fq, hq)
     if "target_heading" in turns:
         return cand, same
     return cand, draws.uniform(-np.pi, np.pi, k)
+
+
+def _facing(cand: np.ndarray, pq: np.ndarray, rq: np.ndarray, fq: np.ndarray,
+            hq: np.ndarray) -> np.ndarray:
+    """Headings (B, K) of candidates (B, K, 2) turned towards the nearest point of their
+    parent's footprint (centres ``pq``, axes ``rq``, ``fq`` and half sizes ``hq``, each
+    (B, 1, 2) or (B, 2)): what ``facing`` aims at."""
+    shape = cand.shape[:-1]
+    pq, rq, fq, hq = (np.broadcast_to(a.reshape(len(cand), -1, 2), cand.shape)
+                      for a in (pq, rq, fq, hq))
+    aim = geo.nearest_in_box(cand, pq, rq, fq, hq)
+    over = (np.abs(aim - cand) < 1e-9).all(-1)
+    aim = np.where(over[..., None], pq, aim)
+    return geo.yaw_facing((aim - cand).reshape(-1, 2)).reshape(shape)
 
 
 def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r) -> np.ndarray:

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
+from forcelayout.geometry import nearest_in_box
 from forcelayout.rules.base import ParamArrays, Rule, StartHint, State
 from forcelayout.rules.shaping import (
     CAP,
@@ -44,9 +45,20 @@ __all__ = [
     "Under",
 ]
 
+def _aim(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """What each object faces: the point of its target's footprint nearest its centre (a
+    stool squarely at the long side of a counter faces the counter, not its far-off
+    centre); the target's centre where the object's centre lies over the target."""
+    aim = nearest_in_box(state.pos[i], state.pos[j], state.right[j], state.front[j],
+                         state.half[j])
+    over = (np.abs(aim - state.pos[i]) < 1e-9).all(1)
+    return np.where(over[:, None], state.pos[j], aim)
+
+
 def _facing_error(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
-    """Angle from each object's front to the direction of its target's centre, radians."""
-    return signed_angle(state.front[i], state.pos[j] - state.pos[i])  # needs no unit vector
+    """Angle from each object's front to the direction of what it faces (:func:`_aim`),
+    radians."""
+    return signed_angle(state.front[i], _aim(state, i, j) - state.pos[i])  # needs no unit
 
 
 def _side(state: State, i: np.ndarray, j: np.ndarray
@@ -170,12 +182,14 @@ class FarFrom(Rule):
 
 
 class Facing(Rule):
-    """Turned towards the target with a clear view: its centre within `max_angle` of the front.
+    """Turned towards the target with a clear view: its footprint within `max_angle` of the front.
 
-    Satisfied when the target's centre lies within ``max_angle`` degrees of
-    the object's front and no floor object taller than ``view_height``
-    stands on the line between the two centres (a sofa facing the TV over a
-    low coffee table, not through a wardrobe). Small misses are fixed by
+    Satisfied when the point of the target's footprint nearest the object's
+    centre lies within ``max_angle`` degrees of the object's front (squarely
+    at any stretch of a long side: stools along a counter, chairs along a
+    table; towards the centre of a small target) and no floor object taller
+    than ``view_height`` stands on the line between the two centres (a sofa
+    facing the TV over a low coffee table, not through a wardrobe). Small misses are fixed by
     sliding sideways (along the object's own right axis) until the target is
     well inside the cone, so an object held square by a wall lines up with
     its target along that wall; large misses also turn the object. A blocked
@@ -193,7 +207,8 @@ class Facing(Rule):
     class Params(Rule.Params):
         max_angle: float = Field(30.0, gt=0, le=180,
                                  description="Largest angle between the object's front and "
-                                             "the direction to the target's centre, deg.")
+                                             "the direction to the nearest point of the "
+                                             "target's footprint, deg.")
         view_height: float = Field(1.1, gt=0,
                                    description="Floor objects taller than this on the line "
                                                "between the two block the view, m.")
@@ -203,7 +218,7 @@ class Facing(Rule):
     def force(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         err = _facing_error(state, i, j)
         half_cone = np.radians(p.max_angle)
-        d = state.pos[j] - state.pos[i]
+        d = _aim(state, i, j) - state.pos[i]
         r = state.right[i]
         lat = (d * r).sum(1)
         ahead = (d * state.front[i]).sum(1)
@@ -480,7 +495,8 @@ class Around(Rule):
         distance: float = Field(0.3, gt=0, description="Largest footprint gap to the target, m.")
         max_angle: float = Field(30.0, gt=0, le=180,
                                  description="Largest angle between the object's front and "
-                                             "the direction to the target's centre, deg.")
+                                             "the direction to the nearest point of the "
+                                             "target's footprint, deg.")
         overhang: float = Field(0.1, ge=0, le=0.5,
                                 description="How far past a corner of the target the object "
                                             "may stand, as a share of its width (0.5: its "

@@ -200,6 +200,9 @@ def test_bad_params_name_the_param():
     data["rules"][1]["params"] = {"distanse": 0.2}
     (p,) = problems(data)
     assert "params.distanse" in p.path
+    # the fix, in the library's words rather than the validator's
+    assert "has no parameter 'distanse'. Did you mean 'distance'? It takes [" in p.message
+    assert "Extra inputs" not in p.message
 
 
 def test_unknown_field_is_rejected():

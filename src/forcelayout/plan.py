@@ -614,9 +614,15 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
         try:
             params = rule.Params.model_validate(r.params)
         except ValidationError as e:
+            fields = sorted(rule.Params.model_fields)
             for err in e.errors():
-                yield Problem(f"{path}.params.{_fmt_loc(err['loc'])}",
-                              f"{err['msg']}; {r.rule!r} takes {sorted(rule.Params.model_fields)}")
+                if err["type"] == "extra_forbidden":  # a misspelt or foreign parameter
+                    name = str(err["loc"][-1])
+                    message = (f"{r.rule!r} has no parameter {name!r}."
+                               f"{_did_you_mean(name, fields)} It takes {fields}")
+                else:
+                    message = f"{err['msg']}; {r.rule!r} takes {fields}"
+                yield Problem(f"{path}.params.{_fmt_loc(err['loc'])}", message)
         else:
             yield from _opening_pick(room, rule, params, path)
         hint = rule.start

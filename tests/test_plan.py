@@ -345,3 +345,15 @@ def test_sizes_in_millimetres_are_named_as_such():
     lines = [p for p in str(err.value).splitlines() if "objects[0].size" in p]
     assert lines and all("looks like centimetres or millimetres" in p for p in lines)
     assert "objects[1]" not in str(err.value)
+
+
+def test_text_that_is_not_json_says_where_and_shows_the_line():
+    text = '{"name": "x",\n "room": {"polygon": [[0, 0], [3, 0], [3, 3]], "height": 2.5,,\n}'
+    with pytest.raises(PlanError) as e:
+        Plan.from_json(text)
+    (p,) = e.value.problems
+    assert p.path == "line 2, column 62"
+    assert p.message.startswith("not valid JSON: Expecting property name enclosed in double "
+                                "quotes (a doubled or trailing comma")
+    assert p.message.endswith('the line reads: "room": {"polygon": [[0, 0], [3, 0], [3, 3]], '
+                              '"height": 2.5,,')

@@ -27,6 +27,7 @@ Examples
 from __future__ import annotations
 
 import difflib
+import json
 import math
 import re
 from collections.abc import Iterator
@@ -355,6 +356,8 @@ class Plan(_Model):
         try:
             return cls.model_validate_json(text)
         except ValidationError as e:
+            if any(err["type"] == "json_invalid" for err in e.errors()):
+                raise PlanError([_json_problem(text)]) from None
             raise _plan_error(e) from None
 
     @classmethod
@@ -397,6 +400,21 @@ def _fmt_loc(loc: tuple[Any, ...]) -> str:
         else:
             out += ("." if out else "") + str(part)
     return out
+
+
+def _json_problem(text: str | bytes) -> Problem:
+    """Where JSON text that does not parse goes wrong, with the line it is on."""
+    if isinstance(text, bytes):
+        text = text.decode("utf-8", errors="replace")
+    try:
+        json.loads(text)
+    except json.JSONDecodeError as e:
+        line = text.splitlines()[e.lineno - 1].strip() if text.strip() else ""
+        shown = line if len(line) <= 80 else line[:77] + "..."
+        return Problem(f"line {e.lineno}, column {e.colno}",
+                       f"not valid JSON: {e.msg} (a doubled or trailing comma, or a missing "
+                       f"quote or bracket?); the line reads: {shown}")
+    return Problem("(the text)", "not valid JSON")
 
 
 def _plan_error(e: ValidationError) -> PlanError:

@@ -495,8 +495,8 @@ class Around(Rule):
         distance: float = Field(0.3, gt=0, description="Largest footprint gap to the target, m.")
         max_angle: float = Field(30.0, gt=0, le=180,
                                  description="Largest angle between the object's front and "
-                                             "the direction to the nearest point of the "
-                                             "target's footprint, deg.")
+                                             "square to the side of the target it stands "
+                                             "at, deg.")
         overhang: float = Field(0.1, ge=0, le=0.5,
                                 description="How far past a corner of the target the object "
                                             "may stand, as a share of its width (0.5: its "

@@ -357,3 +357,12 @@ def test_text_that_is_not_json_says_where_and_shows_the_line():
                                 "quotes (a doubled or trailing comma")
     assert p.message.endswith('the line reads: "room": {"polygon": [[0, 0], [3, 0], [3, 3]], '
                               '"height": 2.5,,')
+
+
+@pytest.mark.parametrize("text", ["{\n", '{"name": "x",\n\n', "", "   "])
+def test_json_cut_short_or_empty_says_the_text_ends_there(text):
+    with pytest.raises(PlanError) as e:
+        Plan.from_json(text)
+    (p,) = e.value.problems
+    assert p.path.startswith("line ") and p.message.startswith("not valid JSON: ")
+    assert p.message.endswith("the text ends there")

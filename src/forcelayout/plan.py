@@ -409,11 +409,13 @@ def _json_problem(text: str | bytes) -> Problem:
     try:
         json.loads(text)
     except json.JSONDecodeError as e:
-        line = text.splitlines()[e.lineno - 1].strip() if text.strip() else ""
+        lines = text.splitlines()  # a text cut short fails past its last line
+        line = lines[e.lineno - 1].strip() if e.lineno <= len(lines) else ""
         shown = line if len(line) <= 80 else line[:77] + "..."
+        where = f"the line reads: {shown}" if line else "the text ends there"
         return Problem(f"line {e.lineno}, column {e.colno}",
                        f"not valid JSON: {e.msg} (a doubled or trailing comma, or a missing "
-                       f"quote or bracket?); the line reads: {shown}")
+                       f"quote or bracket?); {where}")
     return Problem("(the text)", "not valid JSON")
 
 

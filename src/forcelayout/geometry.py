@@ -29,7 +29,7 @@ __all__ = [
     "right_vectors",
     "yaw_facing",
     "toward_nearest",
-    "nearest_in_box",
+    "facing_point",
     "box_corners",
     "box_sides",
     "box_gap",
@@ -78,19 +78,26 @@ def toward_nearest(points: np.ndarray, centres: np.ndarray) -> np.ndarray:
     return d[np.arange(len(d)), k].reshape(points.shape)
 
 
-def nearest_in_box(points: np.ndarray, centre: np.ndarray, right: np.ndarray,
-                   front: np.ndarray, half: np.ndarray) -> np.ndarray:
-    """The point of each oriented rectangle nearest each of ``points``: the point itself
-    where it lies inside. All arrays (..., 2), broadcast; shape of the broadcast.
+def facing_point(points: np.ndarray, centre: np.ndarray, right: np.ndarray,
+                 front: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """What an object at each of ``points`` faces when it faces an oriented rectangle: the
+    rectangle's point nearest it, or the rectangle's centre where the point lies inside.
+    All arrays (..., 2), broadcast; shape of the broadcast.
 
-    >>> nearest_in_box(np.array([3.0, 0.2]), np.zeros(2), np.array([1.0, 0.0]),
-    ...                np.array([0.0, 1.0]), np.array([1.0, 0.5])).tolist()
+    >>> facing_point(np.array([3.0, 0.2]), np.zeros(2), np.array([1.0, 0.0]),
+    ...              np.array([0.0, 1.0]), np.array([1.0, 0.5])).tolist()
     [1.0, 0.2]
+    >>> facing_point(np.array([0.5, 0.2]), np.zeros(2), np.array([1.0, 0.0]),
+    ...              np.array([0.0, 1.0]), np.array([1.0, 0.5])).tolist()
+    [0.0, 0.0]
     """
+    points, centre = np.asarray(points, dtype=float), np.asarray(centre, dtype=float)
     d = points - centre
     lx = np.clip((d * right).sum(-1), -half[..., 0], half[..., 0])
     ly = np.clip((d * front).sum(-1), -half[..., 1], half[..., 1])
-    return centre + right * lx[..., None] + front * ly[..., None]
+    aim = centre + right * lx[..., None] + front * ly[..., None]
+    inside = (np.abs(aim - points) < 1e-9).all(-1)
+    return np.where(inside[..., None], centre, aim)
 
 
 def right_vectors(yaw: np.ndarray) -> np.ndarray:

@@ -493,9 +493,7 @@ def _facing(cand: np.ndarray, pq: np.ndarray, rq: np.ndarray, fq: np.ndarray,
     shape = cand.shape[:-1]
     pq, rq, fq, hq = (np.broadcast_to(a.reshape(len(cand), -1, 2), cand.shape)
                       for a in (pq, rq, fq, hq))
-    aim = geo.nearest_in_box(cand, pq, rq, fq, hq)
-    over = (np.abs(aim - cand) < 1e-9).all(-1)
-    aim = np.where(over[..., None], pq, aim)
+    aim = geo.facing_point(cand, pq, rq, fq, hq)
     return geo.yaw_facing((aim - cand).reshape(-1, 2)).reshape(shape)
 
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
-from forcelayout.geometry import nearest_in_box
+from forcelayout.geometry import facing_point
 from forcelayout.rules.base import ParamArrays, Rule, StartHint, State
 from forcelayout.rules.shaping import (
     CAP,
@@ -45,14 +45,13 @@ __all__ = [
     "Under",
 ]
 
+
 def _aim(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:
     """What each object faces: the point of its target's footprint nearest its centre (a
     stool squarely at the long side of a counter faces the counter, not its far-off
     centre); the target's centre where the object's centre lies over the target."""
-    aim = nearest_in_box(state.pos[i], state.pos[j], state.right[j], state.front[j],
-                         state.half[j])
-    over = (np.abs(aim - state.pos[i]) < 1e-9).all(1)
-    return np.where(over[:, None], state.pos[j], aim)
+    return facing_point(state.pos[i], state.pos[j], state.right[j], state.front[j],
+                        state.half[j])
 
 
 def _facing_error(state: State, i: np.ndarray, j: np.ndarray) -> np.ndarray:

@@ -468,11 +468,11 @@ def unhung(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
     high_top = tops.copy()  # each floor object's top, or of what stands on it
     for r, _, top in loads:
         high_top[r] = max(high_top[r], top)
+    sizes = cp.size([b.object for b in specs])  # of the wall objects, as specs
     for k in range(len(pos)):
         corners = box_corners(pos[k], yaw[k], size[:, :2] * 0.5)
         blocks: dict[int, list[Block]] = {}  # of the walls looked at
-        for b in specs:
-            w, _, h = cp.size([b.object])[0]
+        for b, (w, _, h) in zip(specs, sizes, strict=True):
             if b.target is not None:
                 t = row[b.target]
                 low, high = wall_band(b, plan.room.height, float(tops[t]))

@@ -352,6 +352,16 @@ def _near_opening(draws: _Draws, k: int, centre: np.ndarray, reach: float) -> np
     return pick + r[..., None] * np.stack([np.cos(a), np.sin(a)], axis=-1)
 
 
+def _back_access(access: AccessTerm | None, n: int) -> np.ndarray:
+    """The depth (N,) of the access zone behind each of ``n`` rows (0 for none): the room a
+    chair at a table needs behind it to be pulled out."""
+    out = np.zeros(n)
+    if access is not None:
+        back = access.direction[:, 1] < -0.5
+        np.maximum.at(out, access.owner[back], access.depth[back])
+    return out
+
+
 def _corner_candidates(
     room, draws: _Draws, k: int, half: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray] | None:
@@ -1027,14 +1037,22 @@ class _Placer:
         front, n_front = np.zeros(n), np.zeros(n)
         # and on every side of it for its children all round (the chairs at a table)
         around, n_around = np.zeros(n), np.zeros(n)
+        # and, side by side, beyond them for their access zones behind them (room to pull
+        # a chair out): how deep, and how wide a chair is with room beside it
+        behind, zoned, seat = _back_access(self.access, n), np.zeros(n), np.zeros(n)
         for c in range(n):
             if parent[c] >= 0 and "front" in wants[c].places:
                 front[parent[c]] = max(front[parent[c]], model.size[c, 1] + 0.15)
                 n_front[parent[c]] += 1
             if parent[c] >= 0 and "all_round" in wants[c].places:
                 around[parent[c]] = max(around[parent[c]], model.size[c, 1] + _GAP[0])
+                zoned[parent[c]] = max(zoned[parent[c]],
+                                       model.size[c, 1] + _GAP[0] + behind[c])
+                seat[parent[c]] = max(seat[parent[c]], model.size[c, 0] + 0.1)
                 n_around[parent[c]] += 1
         self.front_margin, self.around_margin = front, around
+        self.zoned_margin = np.where(zoned > around, zoned, 0.0)
+        self.seat = seat
         self.n_front, self.n_around = n_front, n_around
         self.lo, self.hi = room.bounds[:2], room.bounds[2:]
         # a floor that is its own bounding box: a footprint lies on it when its corners lie
@@ -1376,13 +1394,26 @@ class _Placer:
         am = self.around_margin[r]
         if am > 0:  # all round it for its children there (the chairs at a table)
             cramped += self.n_around[r] * ~roomy(cand, half[r] + am)
+        zm = self.zoned_margin[r]
+        zoned = np.zeros(n, dtype=bool)
+        if zm > 0:  # and sides with room for them all and their access zones beyond them
+            seats = np.zeros(n)
+            hx, hy = half[r]
+            for axis, h, other in ((fwd, hy, hx), (rgt, hx, hy)):
+                fits = max(1.0, np.floor((2.0 * other + 0.1) / self.seat[r]))
+                ext = np.array([other, 0.5 * zm]) if axis is fwd else np.array([0.5 * zm, other])
+                for sign in (-1.0, 1.0):
+                    seats += fits * roomy(cand + sign * axis * (h + 0.5 * zm), ext)
+            # a blocked zone: chooses among the candidates, calls for no second draw (which
+            # asked for room all round and made crowded studios half as slow)
+            zoned = seats < self.n_around[r]
         # no room above it for the object that hangs there: that object goes missing and
         # the sample fails, so this ranks with a spot in a window zone (below)
         unmet = 4.0 * _unmet(self.room, w, cand.reshape(-1, 2), fwd.reshape(-1, 2),
                              rgt.reshape(-1, 2), half[r])
         unmet += _unmet_rules(model, self.by_object[r], r, cand, cyaw, pos, yaw,
                               [placed[b] for b in sb])[:, 0]
-        access = self._access_misses(r, cand, rgt, fwd, solid, pos, yaw, present)[:, 0]
+        access = self._access_misses(r, cand, rgt, fwd, solid, pos, yaw, present)[:, 0] + zoned
         if window is not None and window.tall[:, r].any():  # tall: not in front of a window
             # a failed check rejects a sample, an unmet rule may be within its tolerance:
             # a spot in a window zone ranks below one that misses any few rules

@@ -17,7 +17,7 @@ import numpy as np
 from pydantic import Field
 
 from forcelayout.geometry import facing_point
-from forcelayout.rules.base import ParamArrays, Rule, StartHint, State
+from forcelayout.rules.base import Access, ParamArrays, Rule, StartHint, State
 from forcelayout.rules.shaping import (
     CAP,
     GAIN,
@@ -479,7 +479,9 @@ class Around(Rule):
     is past a corner, and turning it square to that side, the force pushes
     the objects bound around the same target at the same side apart along
     it until each has room beside the next (their widths and 10 cm between
-    them). Objects start at a side chosen by its length, square to it.
+    them). Objects start at a side chosen by its length, square to it. Each
+    needs 0.3 m of free floor behind it (its access zone, see
+    :mod:`forcelayout.access`): room to pull the chair out and sit down.
     """
 
     closeness = "close"
@@ -488,6 +490,7 @@ class Around(Rule):
     target = "required"
     bond = True
     start = StartHint(place="all_round", turn="face_target", parent=1)
+    access = Access(("back",), 0.3)
     weight = 2.0
 
     class Params(Rule.Params):

@@ -645,6 +645,27 @@ def test_an_access_zone_is_free_where_a_stretch_a_person_wide_is(width, blocked)
             "(1.00 m² off the floor); right (0.50 m deep) blocked by 'box' (0.30 m²))"]
 
 
+@pytest.mark.parametrize("gap, blocked", [(0.25, False), (0.15, True), (0.02, True)])
+def test_a_chair_around_a_table_needs_room_behind_it(gap, blocked):
+    """A chair around a table owns a zone 0.3 m deep behind it: with its back ``gap`` from
+    a wall, the part of the zone off the floor (0.45 m wide) blocks it beyond a third of it
+    (0.045 m²; 0.1 m², three quarters of the zone, had let a chair 0.15 m off a wall by)."""
+    from forcelayout.access import zone_states
+
+    plan = Plan.from_dict({
+        "name": "table", "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]]},
+        "objects": [{"id": "table", "category": "table", "size": [1.2, 0.8, 0.75]},
+                    {"id": "chair", "category": "chair", "size": [0.45, 0.5, 0.9]}],
+        "rules": [{"rule": "around", "object": "chair", "target": "table"}]})
+    # the chair faces +y towards the table, its back towards the wall y = 0
+    chair = Pose(1.5, gap + 0.25, 0.0)
+    lay = Layout(plan, {"table": Pose(1.5, gap + 0.5 + 0.02 + 0.4, 0.0), "chair": chair})
+    (zone,) = [z for z in zone_states(lay) if z.object == "chair"]
+    assert zone.side == "back" and zone.depth == pytest.approx(0.3)
+    assert zone.free == (not blocked)
+    assert check_layout(lay, access_clearance=True).failed("access") == blocked
+
+
 def test_layout_zones_lie_beside_the_sides_they_serve():
     from forcelayout.access import layout_zones
 

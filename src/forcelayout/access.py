@@ -361,7 +361,8 @@ class ZoneState:
         The zone's rectangle, metres (it may reach past a wall).
     free : bool
         Whether some stretch of it ``access_width`` wide (the whole side if
-        narrower) has at most ``max_access_overlap`` m² covered or off the floor.
+        narrower) has at most ``max_access_overlap`` m², and at most a third of its
+        area, covered or off the floor.
     covered_by : list of (str, float)
         What covers it, largest first: an object's id or ``"wall"`` (the part
         off the floor), with the m² covered.

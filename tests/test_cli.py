@@ -19,6 +19,15 @@ def test_rules_lists_the_vocabulary(capsys):
         assert name in out
 
 
+def test_rules_gives_each_summary_whole(capsys):
+    """A summary that wraps in the docstring is not cut at the wrap (near_door's ended in
+    "the nearest door's centre, or")."""
+    assert main(["rules", "near_*"]) == 0
+    lines = {ln.split()[0]: ln for ln in capsys.readouterr().out.splitlines() if ln.strip()}
+    assert "or of the door `door`" in lines["near_door"]
+    assert "or of the window `window`" in lines["near_window"]
+
+
 def test_rules_json_and_pattern(capsys):
     assert main(["rules", "near*", "--json"]) == 0
     names = {r["name"] for r in json.loads(capsys.readouterr().out)}

@@ -666,9 +666,11 @@ class Rule:
 
     @classmethod
     def summary(cls) -> str:
-        """First line of the rule's docstring."""
+        """The rule docstring's summary: its first paragraph, on one line (a summary that
+        wraps, as ``near_door``'s, is not cut at the wrap)."""
         doc = (cls.__doc__ or "").strip()
-        return doc.splitlines()[0] if doc else ""
+        first = doc.split("\n\n", 1)[0]
+        return " ".join(line.strip() for line in first.splitlines())
 
     @classmethod
     def param_info(cls) -> dict[str, dict[str, Any]]:

@@ -205,6 +205,25 @@ def test_bad_params_name_the_param():
     assert "Extra inputs" not in p.message
 
 
+@pytest.mark.parametrize("given, says", [
+    ("0.2m", "'0.2m' is not a number; write it without its unit: 0.2 (lengths are in metres"),
+    ("20 cm", "'20 cm' is not a number; write it without its unit: 0.2 (lengths"),
+    ("near", "'near' is not a number; give one, without quotes"),
+])
+def test_a_number_written_with_its_unit_says_to_drop_the_unit(given, says):
+    """A parameter or size written as text with its unit gets the fix, not the validator's
+    "unable to parse string as a number" (a new user's "0.2m")."""
+    data = plan_with()
+    data["rules"][1]["params"] = {"distance": given}
+    (p,) = problems(data)
+    assert p.path.endswith("params.distance") and says in p.message
+    assert "unable to parse" not in p.message
+    data = plan_with()
+    data["objects"][0]["size"][0] = given
+    (p,) = problems(data)
+    assert p.path.endswith("size[0]") and says in p.message
+
+
 def test_unknown_field_is_rejected():
     data = plan_with()
     data["objects"][0]["colour"] = "red"

@@ -434,11 +434,33 @@ def _plan_error(e: ValidationError) -> PlanError:
                 msg += _did_you_mean(err["loc"][-1], fields).replace(" Did", ". Did", 1)
         elif err["type"] == "missing":
             msg = "required field is missing"
+        msg = _unit_hint(err, msg)
         loc = err["loc"]
         if loc[:1] == ("objects",) and "size" in loc[2:]:  # a size of the wrong length or kind
             msg += "; size is [width, depth, height] in metres"
         problems.append(Problem(_fmt_loc(loc), msg))
     return PlanError(problems)
+
+
+#: Units a number in a plan may be written with by mistake, and their factor to the plan's
+#: units (metres, degrees).
+_UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "deg": 1.0, "°": 1.0}
+_WITH_UNIT = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+))\s*([a-zA-Z°]+)\s*$")
+
+
+def _unit_hint(err: Any, msg: str) -> str:
+    """``msg``, for a number written as text with its unit (``"0.2m"``), said plainly: write
+    the number alone, in metres or degrees."""
+    if err["type"] not in ("float_parsing", "int_parsing") or not isinstance(err.get("input"),
+                                                                             str):
+        return msg
+    m = _WITH_UNIT.match(err["input"])
+    if m is None or m.group(2).lower() not in _UNITS:
+        return (f"{err['input']!r} is not a number; give one, without quotes (lengths in "
+                "metres, angles in degrees)")
+    value = float(m.group(1)) * _UNITS[m.group(2).lower()]
+    return (f"{err['input']!r} is not a number; write it without its unit: {value:g} "
+            "(lengths are in metres, angles in degrees)")
 
 
 def _fields_at(loc: tuple) -> list[str]:
@@ -641,7 +663,7 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
                     message = (f"{r.rule!r} has no parameter {name!r}."
                                f"{_did_you_mean(name, fields)} It takes {fields}")
                 else:
-                    message = f"{err['msg']}; {r.rule!r} takes {fields}"
+                    message = f"{_unit_hint(err, err['msg'])}; {r.rule!r} takes {fields}"
                 yield Problem(f"{path}.params.{_fmt_loc(err['loc'])}", message)
         else:
             yield from _opening_pick(room, rule, params, path)

@@ -119,6 +119,15 @@ def test_object_larger_than_room():
     assert p.path == "objects[0].size" and "larger than the room" in p.message
 
 
+def test_a_crowded_floor_names_its_largest_objects():
+    """Floor objects over 60 % of the floor: the message names the largest footprints, the
+    ones to shrink (a new user's oversized table was not named)."""
+    data = plan_with(objects__0__size=[3.0, 2.8, 0.5])  # 8.4 of 14 m², the nightstand 0.18
+    (p,) = problems(data)
+    assert p.path == "objects" and "enlarge the room (the largest: 'bed' 8.4 m², " \
+        "'nightstand_1' 0.2 m²)" in p.message
+
+
 def test_non_simple_polygon():
     data = plan_with(room__polygon=[[0, 0], [4, 3.5], [4, 0], [0, 3.5]])
     (p,) = problems(data)

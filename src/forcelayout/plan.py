@@ -611,6 +611,7 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
     short_side, long_side = sides[0], sides[-1]
     off_floor = {r.object for r in plan.rules if _off_floor(r.rule)}
     floor_area = 0.0
+    footprints: list[tuple[float, str]] = []
     for k, o in enumerate(plan.objects):
         w, d, h = o.size
         # no furniture is 20 m in any direction: most likely centimetres or millimetres
@@ -625,10 +626,14 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
                           f"{room.height:g} m" + units)
         if o.id not in off_floor and not o.is_walkable:  # furniture stands on covers
             floor_area += w * d
+            footprints.append((w * d, o.id))
     if floor_area > MAX_FLOOR_FILL * poly.area:
+        largest = ", ".join(f"{oid!r} {a:.1f} m²" for a, oid in sorted(
+            footprints, key=lambda t: -t[0])[:3])
         yield Problem("objects", f"the floor objects cover {floor_area:.1f} m² of a "
                       f"{poly.area:.1f} m² room (more than {MAX_FLOOR_FILL:.0%}); no valid layout "
-                      "can leave room to walk; remove objects or enlarge the room")
+                      f"can leave room to walk; remove objects or enlarge the room (the largest: "
+                      f"{largest})")
     # rules
     ids = plan.ids
     areas = {a.name for a in plan.areas}

@@ -27,6 +27,7 @@ import json
 import sys
 import time
 import warnings
+from collections import Counter
 from concurrent.futures import Executor, Future
 from pathlib import Path
 
@@ -144,8 +145,12 @@ def run_generate(args: argparse.Namespace) -> int:
           f"met) -> {out}")
     short = sum(lay.report.rule_satisfaction < 1.0 for lay in result.layouts)
     if short:
+        unmet = Counter(r.label for lay in result.layouts for r in lay.rule_report()
+                        if r.satisfied is False)
+        which = ", ".join(f"{label} x{k}" for label, k in unmet.most_common(3))
         print(f"{short} of the {summary['accepted']} layouts leave a rule unmet, as "
-              f"--min-rules {_min_rules(args):g} allows; --min-rules 1 asks for every rule")
+              f"--min-rules {_min_rules(args):g} allows ({which}); --min-rules 1 asks for "
+              "every rule")
     if summary["still_objects"]:
         still = summary["still_objects"]
         print(f"note: {', '.join(map(repr, still))} stand{'s' if len(still) == 1 else ''} in "

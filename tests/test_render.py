@@ -125,6 +125,19 @@ def test_free_space_overlay_changes_the_picture():
     assert "<image" in shaded and "<image" not in plain
 
 
+def test_a_label_over_another_moves_down_a_line():
+    """The lamp on the nightstand and the light over the desk: their labels stand below the
+    labels of what they stand on or hang over, not on them (a new user's pendant over a
+    table made both unreadable)."""
+    fig = draw_layout(layout(light=Pose(3.68, 1.5, 0.0, 2.55, "ceiling")))
+    at = {t.get_text(): t.get_position() for t in fig.axes[0].texts}
+    for over, under in (("lamp", "nightstand"), ("light", "desk")):
+        assert at[over][0] == pytest.approx(at[under][0])
+        assert at[under][1] - at[over][1] == pytest.approx(0.11)
+    # labels far apart stay at their objects' centres
+    assert at["bed"] == pytest.approx((0.7, 2.9))
+
+
 def test_draw_into_a_given_axes():
     fig = Figure()
     ax = fig.add_subplot(1, 2, 2)

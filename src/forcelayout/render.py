@@ -139,6 +139,7 @@ def _draw_objects(ax: Axes, layout: Layout, labels: bool, failing: set[str]
             at = c[3] + 0.2 * (c[1] - c[3])  # inside, near the front-left corner
             ax.text(at[0], at[1], oid, fontsize=5.5, ha="center", va="center", zorder=10,
                     color="#555555", style="italic")
+    placed: list[np.ndarray] = []  # where the labels so far stand
     for oid in ids:
         if oid in covers:
             continue
@@ -160,12 +161,31 @@ def _draw_objects(ax: Axes, layout: Layout, labels: bool, failing: set[str]
             ax.plot(c[2:4, 0], c[2:4, 1], color=edge, lw=2.6, solid_capstyle="butt",
                     zorder=z + 0.1)
         if labels:
-            centre = c.mean(0)
+            centre = _label_spot(c.mean(0), placed)
             ax.text(centre[0], centre[1], oid, fontsize=6, ha="center", va="center",
                     zorder=10, color="#111111",
                     style="italic" if kind != "floor" else "normal")
         cover_keys.discard(key)  # the key also names furniture: a plain legend patch
     return used, cover_keys
+
+
+#: How far apart two object labels stand at the least (metres: across, up), and the step
+#: a label moves down by until it is so far from the others.
+_LABEL_ROOM = (0.45, 0.11)
+
+
+def _label_spot(centre: np.ndarray, placed: list[np.ndarray]) -> np.ndarray:
+    """Where an object's label goes: its centre, moved down a line at a time (at most four)
+    while it would stand on a label drawn before (a pendant's over its table's); the spot
+    is kept in ``placed``."""
+    at = np.array(centre, dtype=float)
+    for _ in range(4):
+        if not any(abs(at[0] - p[0]) < _LABEL_ROOM[0] and abs(at[1] - p[1]) < _LABEL_ROOM[1]
+                   for p in placed):
+            break
+        at[1] -= _LABEL_ROOM[1]
+    placed.append(at)
+    return at
 
 
 def _draw_access(ax: Axes, layout: Layout) -> set[str]:

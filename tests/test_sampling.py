@@ -443,5 +443,6 @@ def test_a_room_too_full_to_walk_through_is_told_to_lose_furniture_not_to_sample
     assert res.feasibility.verdict == "tight" and len(res) == 0
     hint = res.hint()
     assert "fail 'navigable'" in hint
-    assert "before sampling the plan looked tight (standing apart the obstacles leave" in hint
+    assert ("before sampling the plan looked tight (if the objects stood apart, they would "
+            "leave") in hint
     assert "fewer or smaller objects or a larger room will do more than samples" in hint

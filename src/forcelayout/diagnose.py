@@ -350,8 +350,8 @@ def feasibility(
     elif free < min_free_fraction + _TIGHT_FREE_MARGIN:
         hint = ("only layouts that group furniture pass" if free < min_free_fraction
                 else "little to spare")
-        tight.append(f"standing apart the obstacles leave about {free:.0%} of the floor free "
-                     f"for a {r:g} m agent (need {min_free_fraction:.0%}); {hint}")
+        tight.append(f"if the objects stood apart, they would leave about {free:.0%} of the "
+                     f"floor free for a {r:g} m agent ({min_free_fraction:.0%} needed): {hint}")
     if wall_demand > wall_available + 1e-9:
         bad.append(f"the wall-bound objects need {wall_demand:.2f} m of wall, the room has "
                    f"{wall_available:.2f} m without its doors")

@@ -671,11 +671,17 @@ _ACCESS_STEP = 0.05
 _ACCESS_SHARE = 1.0 / 3.0
 
 
+def _stretch_width(half: np.ndarray, width: float) -> float:
+    """How wide the stretches of a zone of half extents ``half`` are: ``width``, or the
+    zone's side if narrower."""
+    return min(width, 2.0 * float(half[0]))
+
+
 def _stretches(centre: np.ndarray, lateral: np.ndarray, out: np.ndarray, half: np.ndarray,
                width: float) -> np.ndarray:
     """Polygons of the stretches of one zone ``width`` wide (the zone if narrower), side
     by side every :data:`_ACCESS_STEP` metres from one end of the zone to the other."""
-    w = min(width, 2.0 * float(half[0]))
+    w = _stretch_width(half, width)
     slack = 2.0 * float(half[0]) - w
     u = np.linspace(-0.5 * slack, 0.5 * slack, int(np.ceil(slack / _ACCESS_STEP)) + 1)
     k = len(u)
@@ -762,7 +768,7 @@ def _zone_states(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprin
         for zz in range(nz):
             # at most ``limit``, and at most a third of a stretch: 0.1 m² is three
             # quarters of the zone behind a chair
-            most = min(limit, _ACCESS_SHARE * min(width, 2.0 * float(zh[b, zz, 0]))
+            most = min(limit, _ACCESS_SHARE * _stretch_width(zh[b, zz], width)
                        * 2.0 * float(zh[b, zz, 1]))
             if sum(a for a, _ in why[zz]) <= most:
                 continue  # the whole zone is free enough

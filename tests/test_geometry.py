@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import shapely
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import forcelayout as fl
@@ -15,6 +15,7 @@ from forcelayout.geometry import (
     box_gap,
     box_separation,
     box_sides,
+    facing_point,
     front_vectors,
     obb_gap,
     right_vectors,
@@ -219,3 +220,24 @@ def test_openings_centres_are_every_one_or_the_one_picked():
     assert np.allclose(doors.centres(), doors.centre)
     assert np.allclose(doors.centres(1), doors.centre[[1]])
     assert np.allclose(doors.centres(2), doors.centre)  # past the last: every one
+
+
+@settings(max_examples=60, deadline=None)
+@given(box, coord, coord)
+def test_facing_point_is_the_nearest_point_of_the_rectangle_or_its_centre(b, px, py):
+    """Outside the rectangle, what an object faces is the footprint's point nearest it
+    (shapely's distance to it is the distance to that point); inside, the centre."""
+    x, y, yaw, w, d = b
+    rgt, fwd = right_vectors(np.array(yaw)), front_vectors(np.array(yaw))
+    half = np.array([w, d]) / 2
+    p = np.array([px, py])
+    aim = facing_point(p, np.array([x, y]), rgt, fwd, half)
+    poly = shapely.Polygon(box_corners(np.array([[x, y]]), np.array([yaw]), half[None])[0])
+    assume(poly.exterior.distance(shapely.Point(p)) > 1e-6)  # not on the edge itself
+    if poly.contains(shapely.Point(p)):
+        np.testing.assert_allclose(aim, [x, y])
+    else:
+        assert np.hypot(*(aim - p)) == pytest.approx(poly.distance(shapely.Point(p)), abs=1e-6)
+    # a batch broadcasts: the same point for every row
+    many = facing_point(np.tile(p, (3, 1)), np.array([x, y]), rgt, fwd, half)
+    np.testing.assert_allclose(many, np.tile(aim, (3, 1)))

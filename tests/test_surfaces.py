@@ -147,23 +147,109 @@ def test_back_wall_is_the_wall_a_footprint_stands_with_its_back_to():
     assert behind[:3].all() and not behind[3]
 
 
-def test_hanging_centres_leave_out_openings_the_object_cannot_pass():
-    plan = fl.load_plan(PLAN)
+def _hanging_centres(size: list[float] | None = None, **params: object) -> np.ndarray:
+    plan = copy.deepcopy(PLAN)
+    if size is not None:
+        next(o for o in plan["objects"] if o["id"] == "painting")["size"] = size
+    next(r for r in plan["rules"] if r["rule"] == "above")["params"] = params
+    plan = fl.load_plan(plan)
     above = next(b for b in compile_plan(plan).bindings if b.rule.name == "above")
-    spots = hanging_centres(plan, above, target_top=0.5)
-    # a 0.9 x 0.6 painting from 0.6 m (the bed's top and 0.1 m) fits above the window
-    # (2.1 to 2.7 m) and above the door (to 2.1 m) of this 2.7 m room: every wall whole
+    return hanging_centres(plan, above, target_top=0.5)
+
+
+# the door's stretch (0.55 to 1.45 m along wall 0) and the window's (1.4 to 2.6 m along
+# wall 2) cut out, 0.02 m wider each side
+CUT = [[0, 1.47 + 0.45, 3.55], [1, 0.45, 2.55], [2, 0.45, 1.38 - 0.45],
+       [2, 2.62 + 0.45, 3.55], [3, 0.45, 2.55]]
+
+
+def test_hanging_centres_leave_out_openings_the_object_cannot_pass():
+    # a 0.9 x 0.6 painting from 0.6 m (the bed's top and 0.1 m) up to 1.5 m (max_gap: 1 m
+    # above the bed's top) passes neither the window (0.9 to 2.1 m) nor the door (to 2.1 m)
+    assert np.allclose(_hanging_centres(), CUT)
+    # with any gap allowed, it fits above both in this 2.7 m room: every wall whole
+    spots = _hanging_centres(max_gap=None)
     assert spots[:, 0].tolist() == [0, 1, 2, 3]
     assert np.allclose(spots[:, 1], 0.45) and np.allclose(spots[:, 2], [3.55, 2.55] * 2)
-    # a 0.8 m tall one passes neither: the door's stretch (0.55 to 1.45 m) and the
-    # window's (1.4 to 2.6 m) are cut out, 0.02 m wider each side
-    tall = copy.deepcopy(PLAN)
-    next(o for o in tall["objects"] if o["id"] == "painting")["size"] = [0.9, 0.04, 0.8]
-    tall = fl.load_plan(tall)
-    above = next(b for b in compile_plan(tall).bindings if b.rule.name == "above")
-    spots = hanging_centres(tall, above, target_top=0.5)
-    assert np.allclose(spots, [[0, 1.47 + 0.45, 3.55], [1, 0.45, 2.55],
-                               [2, 0.45, 1.38 - 0.45], [2, 2.62 + 0.45, 3.55], [3, 0.45, 2.55]])
+    # a 0.8 m tall one does not, even then
+    assert np.allclose(_hanging_centres([0.9, 0.04, 0.8], max_gap=None), CUT)
+
+
+def test_above_keeps_the_object_within_max_gap_of_the_target():
+    bed = fl.Pose(1.0, 1.5, -np.pi / 2, 0.0, "floor")  # head against wall 3, top 0.5 m
+    room = RoomGeometry.from_room(fl.load_plan(PLAN).room)
+    plan = copy.deepcopy(PLAN)
+    plan["objects"] = [o for o in plan["objects"] if o["id"] in ("bed", "painting")]
+    plan["rules"] = [r for r in plan["rules"] if r["rule"] == "above"]
+
+    def met(z: float, **params: float | None) -> bool:
+        plan["rules"][0]["params"] = params
+        poses = {"bed": bed, "painting": wall_pose(room, 3, 1.5, z, 0.04)}
+        report = fl.Layout(fl.load_plan(plan), poses).rule_report()
+        return report[0].satisfied
+
+    assert met(1.5) and not met(1.6)  # its bottom at most 1 m above the bed's top
+    assert met(1.6, max_gap=None) and met(2.0, max_gap=1.5) and not met(1.3, max_gap=0.7)
+    with pytest.raises(PlanError, match="max_gap"):
+        fl.load_plan(plan | {"rules": [{"rule": "above", "object": "painting", "target": "bed",
+                                        "params": {"clearance": 0.5, "max_gap": 0.3}}]})
+
+
+def test_hung_objects_stay_within_reach_of_their_targets():
+    """A shelf above a desk near a window: before ``max_gap``, the desk stood under the
+    window in 7 of these 12 layouts, and the shelf hung over the window, 1.35 m above the
+    desk's top; now the desk stands beside the window and the shelf within reach."""
+    plan = fl.Plan.from_dict({
+        "name": "shelf above desk",
+        "room": {"polygon": [[0, 0], [3.6, 0], [3.6, 3.0], [0, 3.0]], "height": 2.6,
+                 "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}],
+                 "windows": [{"wall": 2, "offset": 1.8, "width": 1.4, "sill": 0.9}]},
+        "objects": [{"id": "desk", "category": "desk", "size": [1.0, 0.6, 0.75]},
+                    {"id": "bed", "category": "bed", "size": [0.9, 2.0, 0.5]},
+                    {"id": "shelf", "category": "shelf", "size": [0.8, 0.25, 0.25]}],
+        "rules": [{"rule": "at_wall", "object": "desk"}, {"rule": "at_wall", "object": "bed"},
+                  {"rule": "near_window", "object": "desk", "params": {"distance": 1.6}},
+                  {"rule": "above", "object": "shelf", "target": "desk"}]})
+    lays = fl.generate(plan, n=12, seed=0, max_attempts=48)
+    assert len(lays) == 12
+    for lay in lays:
+        assert lay.poses["shelf"].z - 0.75 <= 1.0 + 1e-6
+        assert all(r.satisfied for r in lay.rule_report())
+
+
+def test_with_no_wall_within_max_gap_the_object_hangs_higher_its_rule_unmet():
+    """A desk that must stand under the window: its shelf is not left out (which would fail
+    the sample) but hangs over the window, and ``above`` reports the miss."""
+    plan = {"name": "desk under the window",
+            "room": {"polygon": [[0, 0], [3.6, 0], [3.6, 3.0], [0, 3.0]], "height": 2.6,
+                     "windows": [{"wall": 2, "offset": 1.8, "width": 1.4, "sill": 0.9,
+                                  "height": 1.2}]},
+            "objects": [{"id": "desk", "category": "desk", "size": [1.0, 0.6, 0.75]},
+                        {"id": "shelf", "category": "shelf", "size": [0.8, 0.25, 0.25]}],
+            "rules": [{"rule": "at_wall", "object": "desk"},
+                      {"rule": "near_window", "object": "desk", "weight": 5.0,
+                       "params": {"distance": 0.4}},
+                      {"rule": "above", "object": "shelf", "target": "desk"}]}
+    for seed in range(4):
+        lay = fl.solve(plan, seed)
+        assert lay.report.missing == [] and lay.poses["shelf"].surface == "wall:2"
+        assert lay.poses["shelf"].z >= 2.1 - 1e-6  # over the window's top
+        verdict = {r.rule: r.satisfied for r in lay.rule_report()}
+        assert verdict == {"at_wall": True, "near_window": True, "above": False}
+    # a floor judge counts the shelf as a rule the sample may leave unmet, not a failure
+    from forcelayout.forces import ForceModel
+    from forcelayout.verdict import judge_floor
+    model = ForceModel(fl.load_plan(plan))
+    under = judge_floor(model, np.array([[1.8, 2.7]]), np.array([np.pi]))
+    assert under.failures == ["above(shelf, desk)"] and len(under.missed) == 1
+    assert under.passes(misses=1) and not under.passes(misses=0)
+    assert judge_floor(model, np.array([[0.6, 2.7]]), np.array([np.pi])).failures == [
+        "near_window(desk)"]  # beside the window: room above it
+    # where no wall has room within max_gap of the desk's top, the plan is refused
+    plan["room"]["windows"] = [{"wall": w, "offset": (1.8, 1.5)[w % 2], "sill": 0.8,
+                                "width": (3.4, 2.8)[w % 2], "height": 1.3} for w in range(4)]
+    with pytest.raises(PlanError, match="band 0.85..2.00 m is 0.10 m .* or raise max_gap"):
+        check_surfaces(fl.Plan.from_dict(plan))
 
 
 def test_clock_keeps_its_band_and_clears_the_window(layouts):

@@ -37,8 +37,11 @@ class FloorVerdict:
     at_fault : set of int
         Rows of the objects to move.
     missed : set of int
-        Positions of the unmet bindings in the model's ``bindings``; each is
-        one of ``failures`` (the rest are failed checks).
+        Positions of the unmet bindings in the model's ``bindings``, and
+        ``-1 - index`` of a wall binding (its ``Binding.index``) the wall stage
+        will leave unmet (a shelf that finds no wall within its ``max_gap``
+        above its desk); each is one of ``failures`` (the rest are failed
+        checks).
     free : float
         Share of the floor free for the agent, as the ``navigable`` check
         judges it (1 where the checks did not run).
@@ -176,8 +179,13 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
             for b, missing in zip(clean, unhung(model.compiled, list(model.ids), pos[clean],
                                                 yaw[clean]), strict=True):
                 v = out[b]
-                for oid, target, near in missing:
-                    if target is not None:
+                for wall_binding, near, higher in missing:
+                    oid, target = wall_binding.object, wall_binding.target
+                    if higher:  # the wall stage hangs it higher, its rule unmet
+                        v.failures.append(str(wall_binding))
+                        v.missed.add(-1 - wall_binding.index)
+                        v.at_fault.add(row[target])
+                    elif target is not None:
                         v.failures.append(f"walls: no room for {oid!r} on the wall above "
                                           f"{target!r} (doors, windows or furniture there)")
                         v.at_fault.add(row[target])

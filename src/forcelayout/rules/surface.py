@@ -15,7 +15,7 @@ wall and its front facing into the room; ``z`` is its bottom edge.
 from __future__ import annotations
 
 import numpy as np
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from forcelayout.rules.base import ParamArrays, Rule, StartHint, State
 
@@ -178,8 +178,9 @@ class Above(_SurfaceRule):
     object's centre lies over the middle ``middle`` share of the target's
     extent along that wall (the middle half by default: a mirror over a
     dresser, not hanging off its end beside a window), and its bottom is at
-    least ``clearance`` metres above the target's top (and its top at most
-    ``high``, default the ceiling).
+    least ``clearance`` and at most ``max_gap`` metres above the target's top
+    (1 m by default: a shelf over a desk within reach, not over the window
+    behind it; and its top at most ``high``, default the ceiling).
     """
 
     surface = "wall"
@@ -189,6 +190,9 @@ class Above(_SurfaceRule):
 
     class Params(Rule.Params):
         clearance: float = Field(0.1, ge=0, description="Smallest gap above the target, m.")
+        max_gap: float | None = Field(1.0, ge=0,
+                                      description="Largest gap between the target's top and "
+                                                  "the object's bottom, m; None: any.")
         high: float | None = Field(None, gt=0,
                                    description="Highest top edge, m; None is the ceiling.")
         tolerance: float = Field(0.02, gt=0, description="Largest gap behind the object, m.")
@@ -201,6 +205,14 @@ class Above(_SurfaceRule):
                               description="Share of the target's extent along the wall, "
                                           "about its middle, the object's centre lies "
                                           "over (1: anywhere over the target).")
+
+        @model_validator(mode="after")
+        def _gap_above_clearance(self) -> Above.Params:
+            if self.max_gap is not None and self.max_gap < self.clearance:
+                raise ValueError(f"max_gap ({self.max_gap:g} m) is below clearance "
+                                 f"({self.clearance:g} m): no height is left between them; "
+                                 "raise max_gap or lower clearance")
+            return self
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
         room = state.room
@@ -224,6 +236,8 @@ class Above(_SurfaceRule):
         _, high = wall_band(ParamArrays({"low": np.zeros(len(i)), "high": p.high}, p.weight),
                             room.height)
         ok &= state.z[i] >= top_j + np.asarray(p.clearance, dtype=float) - _Z_TOL
+        gap = np.array([np.inf if v is None else float(v) for v in np.atleast_1d(p.max_gap)])
+        ok &= state.z[i] <= top_j + gap + _Z_TOL
         ok &= state.z[i] + state.size[i, 2] <= high + _Z_TOL
         return ok
 

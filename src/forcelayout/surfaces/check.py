@@ -34,7 +34,7 @@ def check_surfaces(plan: Plan) -> None:
         w, _, h = plan.object(b.object).size
         on_floor = b.target in ids and cp.surface_of(b.target) is None
         low, high = wall_band(b, room.height,
-                              plan.object(b.target).size[2] if on_floor else None)
+                              plan.object(b.target).size[2] if on_floor else None, h)
         if high - low < h - 1e-9:
             problems.append(Problem(f"{path}.params", f"{b.object!r} is {h:g} m tall but its "
                                     f"band on the wall is {low:.2f}..{high:.2f} m; lower 'low', "
@@ -51,7 +51,11 @@ def check_surfaces(plan: Plan) -> None:
         if w > widest + 1e-9:
             where = f"wall {pinned}" if pinned is not None else "any wall"
             problems.append(Problem(path, f"{b.object!r} is {w:g} m wide but the widest free "
-                                    f"stretch of {where} is {widest:.2f} m (doors and windows "
-                                    "taken out); use a narrower object or another wall"))
+                                    f"stretch of {where} in its band {low:.2f}..{high:.2f} m "
+                                    f"is {widest:.2f} m (doors and windows taken out); use a "
+                                    "narrower object or another wall"
+                                    + (", or raise max_gap" if on_floor
+                                       and getattr(b.params, "max_gap", None) is not None
+                                       else "")))
     if problems:
         raise PlanError(problems)

@@ -32,7 +32,7 @@ from forcelayout.surfaces.plane import (
 )
 
 __all__ = ["EYE_LEVEL", "wall_pose", "wall_band", "free_wall_stretches", "hanging_centres",
-           "back_wall", "place_on_walls", "unhung"]
+           "back_wall", "place_on_walls", "unhung", "Unhung"]
 
 #: Eye level, metres: wall objects settle with their centre near this height.
 EYE_LEVEL = 1.6
@@ -68,20 +68,25 @@ def wall_pose(room: RoomGeometry, wall: int, u: float, z: float, depth: float) -
                 f"wall:{wall}")
 
 
-def wall_band(binding: Binding, room_height: float, target_top: float | None = None
-              ) -> tuple[float, float]:
+def wall_band(binding: Binding, room_height: float, target_top: float | None = None,
+              height: float = 0.0) -> tuple[float, float]:
     """Lowest bottom and highest top (metres) a wall binding allows.
 
     Read from the rule's ``low`` and ``high`` params where it has them
     (``low`` 0, ``high`` the ceiling otherwise); with ``target_top``, the
     height of the target's top, the bottom also clears it by the rule's
-    ``clearance`` (:func:`target_clearance`).
+    ``clearance`` (:func:`target_clearance`) and, where the rule has a
+    ``max_gap``, lies at most that far above it: the top then lies at most
+    ``max_gap`` plus the object's ``height`` above the target's top.
     """
     high = getattr(binding.params, "high", None)
     high = room_height if high is None else min(float(high), room_height)
     low = float(getattr(binding.params, "low", 0.0))
     if target_top is not None:
         low = max(low, target_top + target_clearance(binding))
+        gap = getattr(binding.params, "max_gap", None)
+        if gap is not None:
+            high = min(high, target_top + float(gap) + height)
     return low, high
 
 
@@ -188,7 +193,7 @@ def hanging_centres(plan: Plan, binding: Binding, target_top: float) -> np.ndarr
         metres from ``polygon[wall]``.
     """
     w, _, h = plan.object(binding.object).size
-    low, high = wall_band(binding, plan.room.height, target_top)
+    low, high = wall_band(binding, plan.room.height, target_top, h)
     rows = [(wall, a + w / 2, b - w / 2)
             for wall in range(len(plan.room.polygon)) if high - low >= h
             for a, b in free_wall_stretches(plan, wall, low, high, h, margin=_MARGIN)
@@ -273,7 +278,8 @@ def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gene
             tc, tt = corners_tops(cp, poses, [b.target])
             front = front_vectors(poses[b.target].yaw)
             walls = [int(back_wall(room, tc[0], front, *target_stand(b))[0])]
-            low, high = wall_band(b, H, float(tt[0]))
+            low, high = wall_band(b, H, float(tt[0]), h)
+            _, high_any = wall_band(b, H)  # with no max_gap
         else:
             low, high = wall_band(b, H)
             pinned = getattr(b.params, "wall", None)
@@ -292,11 +298,18 @@ def place_on_walls(cp: CompiledPlan, poses: dict[str, Pose], rng: np.random.Gene
                 span = (float(lo), float(hi))
             spot = (chosen[1] if chosen is not None else
                     _wall_spot(room.length[wall], blocks[wall], w, h, low, high, span, rng))
-            if spot is None and span is not None and (span[0] > u.min() or span[1] < u.max()):
-                # no room over the target's middle (a window there): anywhere over the
-                # target, its rule unmet, rather than not hung at all
-                span = (float(u.min()), float(u.max()))
-                spot = _wall_spot(room.length[wall], blocks[wall], w, h, low, high, span, rng)
+            if spot is None and span is not None:
+                # no room over the target's middle, or none within its max_gap (a window
+                # there): anywhere over the target, then higher, its rule unmet, rather
+                # than not hung at all
+                whole = (float(u.min()), float(u.max()))
+                for span_, high_ in ((whole, high), (whole, high_any)):
+                    if (span_, high_) != (span, high):
+                        spot = _wall_spot(room.length[wall], blocks[wall], w, h, low, high_,
+                                          span_, rng)
+                        if spot is not None:
+                            span, high = span_, high_
+                            break
             if spot is not None:
                 u, v = spot
                 blocks[wall].append((u - w / 2, u + w / 2, v, v + h))
@@ -447,13 +460,11 @@ def unhung(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
 
     Returns
     -------
-    list of list of (str, str or None, list of str)
-        Per arrangement, each wall object with no room, its floor target (None for
-        one without a target) and, without a target, the floor objects by the walls
-        it looked at that reach into its band.
+    list of list of Unhung
+        Per arrangement, each wall object with no room.
     """
     specs = [b for b in cp.on("wall") if b.target is None or b.target in ids]
-    out: list[list[tuple[str, str | None, list[str]]]] = [[] for _ in range(len(pos))]
+    out: list[list[Unhung]] = [[] for _ in range(len(pos))]
     if not specs:
         return out
     room, plan = cp.room, cp.plan
@@ -475,7 +486,7 @@ def unhung(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
         for b, (w, _, h) in zip(specs, sizes, strict=True):
             if b.target is not None:
                 t = row[b.target]
-                low, high = wall_band(b, plan.room.height, float(tops[t]))
+                low, high = wall_band(b, plan.room.height, float(tops[t]), h)
                 front = front_vectors(np.array([yaw[k, t]]))
                 wall = int(back_wall(room, corners[t:t + 1], front, *target_stand(b))[0][0])
                 u = corners[t] @ room.tangent[wall] - room.tangent_offset[wall]
@@ -491,16 +502,37 @@ def unhung(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
                     blocks[wall] = (openings[wall]
                                     + _object_blocks(room, wall, corners, tops, reach)
                                     + _load_blocks(room, wall, corners, loads, reach))
-            if high - low < h or not any(
-                    _centres(float(room.length[wall]), blocks[wall], w, h, v, span)
-                    for wall in walls for span in spans
-                    for v in _heights(blocks[wall], h, low, high)):
+            if not _fits(room, blocks, walls, spans, w, h, low, high):
                 near = [] if b.target is not None else [
                     ids[r] for r in range(len(ids)) if high_top[r] > low
                     and any(_object_blocks(room, wall, corners[r:r + 1], tops[r:r + 1], reach)
                             for wall in walls)]
-                out[k].append((b.object, b.target, near))
+                higher = b.target is not None and _fits(room, blocks, walls, spans, w, h, low,
+                                                        wall_band(b, plan.room.height)[1])
+                out[k].append(Unhung(b, near, higher))
     return out
+
+
+def _fits(room: RoomGeometry, blocks: dict[int, list[Block]], walls: list[int],
+          spans: list[tuple[float, float] | None], w: float, h: float, low: float,
+          high: float) -> bool:
+    """Whether a ``w`` x ``h`` wall object finds a first spot on one of ``walls``, in the
+    band ``low..high`` and over one of ``spans`` (None: anywhere)."""
+    return high - low >= h and any(
+        _centres(float(room.length[wall]), blocks[wall], w, h, v, span)
+        for wall in walls for span in spans for v in _heights(blocks[wall], h, low, high))
+
+
+class Unhung(NamedTuple):
+    """A wall object that finds no first spot on a floor arrangement (:func:`unhung`):
+    its binding, the floor objects by the walls it looked at that reach into its band
+    (for one without a target), and whether it finds one higher than its rule's
+    ``max_gap`` above its target (where :func:`place_on_walls` hangs it, its rule
+    unmet)."""
+
+    binding: Binding
+    near: list[str]
+    higher: bool
 
 
 def _load_blocks(room: RoomGeometry, wall: int, corners: np.ndarray,

@@ -395,6 +395,27 @@ def test_validate_labels_each_note_infeasible_or_warning(tmp_path, capsys):
     assert not any(line.startswith("infeasible: ") for line in lines[1:])
 
 
+def test_validate_and_generate_refuse_a_wall_object_taller_than_its_band(tmp_path, capsys):
+    """What generate refuses before sampling, validate refuses too; generate writes
+    nothing; and the size note names the height, the odd dimension."""
+    plan = tmp_path / "tall_tv.json"
+    plan.write_text(json.dumps({
+        "name": "tall tv", "room": {"polygon": [[0, 0], [3.2, 0], [3.2, 3.8], [0, 3.8]]},
+        "objects": [{"id": "bed", "category": "bed", "size": [1.4, 2.0, 0.5]},
+                    {"id": "tv", "category": "tv", "size": [1.0, 0.08, 2.5]}],
+        "rules": [{"rule": "at_wall", "object": "bed"},
+                  {"rule": "on_wall_mid", "object": "tv"}]}))
+    refusal = "rules[1] (on_wall_mid).params: 'tv' is 2.5 m tall but its band on the wall"
+    assert main(["validate", str(plan)]) == 2
+    assert refusal in capsys.readouterr().err
+    out = tmp_path / "out"
+    assert main(["generate", str(plan), "-n", "2", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert refusal in err and not out.exists()
+    assert ("warning: objects[1].size[2]: 'tv' (category 'tv') is 2.5 m tall; a tv is "
+            "usually 0.35-1.3 m tall; fix the height (size[2]) or the category") in err
+
+
 def test_generate_warns_of_the_plan_as_it_samples_it(tmp_path, capsys):
     """A decor bench that spans the room is a warning; with --no-decor the run leaves it
     out, and its warnings with it."""

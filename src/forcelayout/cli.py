@@ -82,6 +82,9 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     plan = load_plan(args.plan)
     if not args.layouts:
         from forcelayout.diagnose import feasibility
+        from forcelayout.pipeline import prepare
+
+        prepare(plan)  # what generate refuses before sampling (a wall object with no room)
 
         feas = feasibility(plan)
         print(f"plan {plan.name!r} is valid: {len(plan.objects)} objects, {len(plan.rules)} rules"

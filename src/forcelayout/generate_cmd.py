@@ -37,6 +37,7 @@ from forcelayout.dataset import layout_stem
 from forcelayout.diagnose import FewLayoutsWarning, feasibility_warnings_as_lines
 from forcelayout.errors import InputError
 from forcelayout.layout import Layout
+from forcelayout.pipeline import prepare
 from forcelayout.plan import Plan
 from forcelayout.sampling import Options, generate, plan_feasibility, process_pool, stop_executor
 from forcelayout.sources import load_plan
@@ -99,6 +100,7 @@ def run_generate(args: argparse.Namespace) -> int:
     feas = plan_feasibility(plan, opts)
     for note in feas.notes[feas.blocking:]:
         print(f"warning: {note}", file=sys.stderr, flush=True)
+    prepare(plan)  # a plan no sample can take is refused before anything is written
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
     _remove_earlier_run(out, plan.name, args.overwrite)

@@ -311,17 +311,22 @@ def _size_findings(plan: Plan) -> Iterable[Finding]:
         (s_lo, s_hi), (l_lo, l_hi), (h_lo, h_hi) = CATEGORY_SIZES[key]
         short, long_ = sorted(o.size[:2])
         h = o.size[2]
-        far = (short < s_lo / _SIZE_SLACK or short > s_hi * _SIZE_SLACK
-               or long_ < l_lo / _SIZE_SLACK or long_ > l_hi * _SIZE_SLACK
-               or h < h_lo / _SIZE_SLACK or h > h_hi * _SIZE_SLACK)
-        if far:
-            what = key.replace("_", " ")
+        flat = (short < s_lo / _SIZE_SLACK or short > s_hi * _SIZE_SLACK
+                or long_ < l_lo / _SIZE_SLACK or long_ > l_hi * _SIZE_SLACK)
+        tall = h < h_lo / _SIZE_SLACK or h > h_hi * _SIZE_SLACK
+        what = key.replace("_", " ")
+        if flat:
             yield Finding(f"objects[{k}].size",
                           f"{o.id!r} (category {o.category!r}) is {_fmt(o.size[0])} x "
                           f"{_fmt(o.size[1])} m; {article(what)} {what} is usually "
                           f"{_rng((s_lo, s_hi))} x "
                           f"{_rng((l_lo, l_hi))} m (height {_rng((h_lo, h_hi))} m)",
                           "fix the size or the category", refs=(f"objects[{k}]",))
+        elif tall:  # the footprint is usual: say it is the height
+            yield Finding(f"objects[{k}].size[2]",
+                          f"{o.id!r} (category {o.category!r}) is {_fmt(h)} m tall; "
+                          f"{article(what)} {what} is usually {_rng((h_lo, h_hi))} m tall",
+                          "fix the height (size[2]) or the category", refs=(f"objects[{k}]",))
 
 
 def _room_findings(plan: Plan) -> Iterable[Finding]:

@@ -127,6 +127,33 @@ def test_a_plan_whose_rules_conflict_is_told_the_fix_not_to_loosen_the_room():
     assert "keep one of rules[2] and rules[3]" in hint and "larger room" not in hint
 
 
+def test_samples_short_of_their_rules_alone_are_told_the_share_that_would_take_them():
+    """A sofa facing a TV stand that should face the same way as the sofa: no start meets
+    both, the checks all pass; the hint gives the share of rules the samples met, not more
+    samples."""
+    plan = {"name": "both ways",
+            "room": {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]],
+                     "doors": [{"wall": 0, "offset": 0.6, "width": 0.8}]},
+            "objects": [{"id": "sofa", "category": "sofa", "size": [2.0, 0.9, 0.85]},
+                        {"id": "stand", "category": "tv_stand", "size": [1.2, 0.4, 0.5]}],
+            "rules": [{"rule": "at_wall", "object": "sofa"},
+                      {"rule": "at_wall", "object": "stand"},
+                      {"rule": "facing", "object": "sofa", "target": "stand"},
+                      {"rule": "face_same_as", "object": "stand", "target": "sofa"}]}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fl.generate(plan, 2, seed=0, max_attempts=3)
+    assert len(res) == 0 and res.feasibility.ok
+    assert ("3 of 3 samples passed every check and met 75% of the rules or more: "
+            "min_rule_satisfaction=0.75 accepts such samples") in res.hint()
+    assert "--min-rules 0.75 accepts" in res.hint(cli=True)
+    assert "max_attempts" not in res.hint()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert len(fl.generate(plan, 2, seed=0, max_attempts=3,
+                               min_rule_satisfaction=0.75)) == 2
+
+
 def test_indexing_an_empty_generation_says_why(empty_run):
     res, _ = empty_run
     with pytest.raises(EmptyGenerationError) as info:

@@ -337,6 +337,14 @@ class Generation:
             todo = (f"before sampling the plan looked tight ({crowded}): fewer or smaller "
                     f"objects or a larger room will do more than samples (or try "
                     f"{attempts(more)})")
+        elif k < 0.1 * tried and (short := self._short_of_rules(n - k)) is not None:
+            # samples that pass every check but a rule or two: a lower share of rules met
+            # takes them, where more samples seldom meet every rule
+            count, share = short
+            flag = f"--min-rules {share:.2f}" if cli else f"min_rule_satisfaction={share:.2f}"
+            todo = (f"{count} of {tried} samples passed every check and met {share:.0%} of "
+                    f"the rules or more: {flag} accepts such samples; or loosen the rule "
+                    "named, since more samples seldom meet them all")
         elif k > 0:
             more = tried + math.ceil((n - k) * tried / k * 1.2)
             todo = f"try {attempts(more)} (about {k / tried:.0%} of samples are accepted)"
@@ -345,6 +353,20 @@ class Generation:
         line = (f"only {k} of {n} layouts of plan {self.plan.name!r} from {tried} samples: "
                 f"{self._cause()}; {todo}")
         return " ".join(line.split())  # one line whatever the failure messages hold
+
+    def _short_of_rules(self, wanted: int) -> tuple[int, float] | None:
+        """How many rejected samples failed for their rules alone, and the share of rules
+        (rounded down to a hundredth) that ``wanted`` of them, or all if fewer, meet; None
+        unless at least half the samples failed so, meeting half their rules or more."""
+        sats = sorted((r.rule_satisfaction for r in self.rejected
+                       if r.failures and not r.missing
+                       and all(f.startswith("rules:") for f in r.failures)), reverse=True)
+        if not sats or len(sats) < 0.5 * self.attempted:
+            return None
+        share = math.floor(sats[min(wanted, len(sats)) - 1] * 100 + 1e-9) / 100
+        if share < 0.5:
+            return None
+        return sum(s >= share for s in sats), share
 
     def _crowded(self) -> str | None:
         """The feasibility note on too little free floor, where most samples failed the

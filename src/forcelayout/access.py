@@ -51,7 +51,8 @@ CATEGORY_ACCESS: dict[str, Access] = {
     **{w: Access(_LONG_SIDES, 0.5) for w in ("bed", "beds", "bunk", "crib", "cot")},
     **{w: Access(_FRONT, 0.6) for w in (
         "wardrobe", "closet", "armoire", "desk", "workbench", "counter", "countertop",
-        "worktop", "sink", "vanity", "dishwasher", "washer", "dryer", "laundry")},
+        "worktop", "sink", "vanity", "dishwasher", "washer", "dryer", "laundry", "shower",
+        "bathtub", "tub")},
     **{w: Access(_FRONT, 0.7) for w in ("fridge", "refrigerator", "freezer", "stove", "oven",
                                          "range", "cooktop", "hob")},
     **{w: Access(_FRONT, 0.5) for w in (

@@ -1041,7 +1041,9 @@ class _Placer:
         # a chair out): how deep, and how wide a chair is with room beside it
         behind, zoned, seat = _back_access(self.access, n), np.zeros(n), np.zeros(n)
         for c in range(n):
-            if parent[c] >= 0 and "front" in wants[c].places:
+            # (a walkable cover in front, the mat at a shower, keeps no floor free: it may
+            # lie in a door's swing and furniture may stand on it)
+            if parent[c] >= 0 and "front" in wants[c].places and not model.walkable[c]:
                 front[parent[c]] = max(front[parent[c]], model.size[c, 1] + 0.15)
                 n_front[parent[c]] += 1
             if parent[c] >= 0 and "all_round" in wants[c].places:

@@ -348,6 +348,41 @@ def test_a_start_keeps_room_above_an_object_for_what_hangs_there():
     assert sum(missing) <= 1
 
 
+def test_objects_facing_one_wall_object_start_turned_to_the_same_wall():
+    """A bed and a beanbag both facing the TV on the wall: the TV is hung after the floor
+    settles, where it meets the most of their rules, so the beanbag starts turned to where
+    the bed looks (in a new user's teen bedroom, 17 of 60 samples then missed the beanbag's
+    rule, 33 before)."""
+    plan = fl.Plan.from_dict({
+        "name": "tv wall",
+        "room": {"polygon": [[0, 0], [3.2, 0], [3.2, 3.8], [0, 3.8]], "height": 2.6,
+                 "doors": [{"wall": 0, "offset": 0.6, "width": 0.85}]},
+        "objects": [{"id": "bed", "category": "bed", "size": [1.2, 2.0, 0.5]},
+                    {"id": "beanbag", "category": "beanbag", "size": [0.8, 0.8, 0.6]},
+                    {"id": "tv", "category": "tv", "size": [1.0, 0.08, 0.6]}],
+        "rules": [{"rule": "at_wall", "object": "bed"},
+                  {"rule": "on_wall_mid", "object": "tv"},
+                  {"rule": "facing", "object": "bed", "target": "tv"},
+                  {"rule": "facing", "object": "beanbag", "target": "tv"}]})
+    model = ForceModel(plan)
+    bed, bag = model.ids.index("bed"), model.ids.index("beanbag")
+    room = model.room
+    turned = 0
+    for seed in range(20):
+        pos, yaw = propose_poses(model, np.random.default_rng(seed))
+        front = np.array([-np.sin(yaw[bed]), np.cos(yaw[bed])])
+        # where the bed looks: the first wall its front meets
+        s = [(((room.a[k] - pos[bed]) @ [-room.tangent[k, 1], room.tangent[k, 0]])
+              / (front @ [-room.tangent[k, 1], room.tangent[k, 0]]))
+             for k in range(room.n_walls)
+             if abs(front @ [-room.tangent[k, 1], room.tangent[k, 0]]) > 1e-9]
+        seen = pos[bed] + min(v for v in s if v > 1e-9) * front
+        aim = seen - pos[bag]
+        look = np.array([-np.sin(yaw[bag]), np.cos(yaw[bag])])
+        turned += aim @ look >= np.cos(np.radians(1.0)) * np.linalg.norm(aim)
+    assert turned >= 18
+
+
 def test_an_object_draws_again_where_no_candidate_meets_its_rules():
     """A table that should stand 3.5 m from a sofa in the corner of a 6 x 4 m room: few
     spots qualify, so where the first draw has none, a second one is made."""

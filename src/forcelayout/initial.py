@@ -69,6 +69,9 @@ class _Wants:
     reach: float = 0.0  # how far from its start place its rules let it be (0: unsaid)
     # the one window or door a rule picks, by kind ("window", "door") -> index in the room's
     picks: dict[str, int] = field(default_factory=dict)
+    # the wall objects (ids) it is turned towards by a rule (a beanbag facing the TV on the
+    # wall): they are hung after the floor settles, where they meet the most such rules
+    views: set[str] = field(default_factory=set)
 
 
 def parents(model: ForceModel) -> np.ndarray:
@@ -159,6 +162,11 @@ def _wants(model: ForceModel) -> list[_Wants]:
             if hint.which is not None and getattr(g.params, hint.which)[b] >= 0:
                 w.picks[hint.place] = int(getattr(g.params, hint.which)[b])
     row = {oid: k for k, oid in enumerate(model.ids)}
+    hung = {b.object for b in model.compiled.on("wall")}
+    for b in model.compiled.bindings:  # floor objects turned towards a wall object
+        if b.object in row and b.target in hung and b.rule.start is not None \
+                and b.rule.start.turn == "face_target":
+            out[row[b.object]].views.add(b.target)
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
                 and b.target in row:
@@ -213,6 +221,25 @@ def _side_room(model: ForceModel, parent: np.ndarray, wants: list[_Wants]
             sides[q, k] += float(model.size[c, 0]) + _BESIDE
             count[q, k] += 1
     return sides, count, either
+
+
+def _ray_to_walls(room, p: np.ndarray, yaw: float) -> np.ndarray | None:
+    """Where the ray from ``p`` (2,) along the front of heading ``yaw`` first meets a wall,
+    (2,), or None (a point outside the room looking away from it)."""
+    f = np.array([-np.sin(yaw), np.cos(yaw)])
+    a, t, length = room.a, room.tangent, room.length
+    # p + s f = a + u t: solve for s (along the ray) and u (along each wall)
+    det = f[0] * -t[:, 1] + t[:, 0] * f[1]
+    ok = np.abs(det) > 1e-12
+    d = a - p
+    safe = np.where(ok, det, 1.0)
+    s = (d[:, 0] * -t[:, 1] + t[:, 0] * d[:, 1]) / safe
+    u = (f[0] * d[:, 1] - f[1] * d[:, 0]) / safe
+    hit = ok & (s > 1e-9) & (u >= -1e-9) & (u <= length + 1e-9)
+    if not hit.any():
+        return None
+    k = int(np.argmin(np.where(hit, s, np.inf)))
+    return p + s[k] * f
 
 
 def _opening_turn(room, turns: set[str], places: set[str]) -> np.ndarray | None:
@@ -1281,9 +1308,31 @@ class _Placer:
         toward = _opening_turn(room, w.turns, places)
         if toward is not None:  # front towards the nearest window (or door)
             cyaw = geo.yaw_facing(geo.toward_nearest(cand, toward))
+        elif w.views and not places & {"wall", "corner"} \
+                and not w.turns & {"face_target", "target_heading"}:
+            cyaw = self._toward_views(r, placed, pos, yaw, cand, cyaw)
         if tall_by_window:
             cand, cyaw = self._clear_of_windows(r, cand, cyaw, k0, tries)
         return cand, cyaw, loose
+
+    def _toward_views(self, r: int, placed: Sequence[Sequence[int]], pos: np.ndarray,
+                      yaw: np.ndarray, cand: np.ndarray, cyaw: np.ndarray) -> np.ndarray:
+        """Headings (B, K) of row ``r``'s candidates (B, K, 2) turned towards where a placed
+        object that faces the same wall object looks (the first such one in its sample):
+        the wall its front points at, where that wall object will hang to meet them both
+        (a beanbag turned to the wall at the foot of the bed, where the TV goes). A sample
+        with none such placed keeps its headings."""
+        views = self.wants[r].views
+        out = cyaw.copy()
+        for b, rows in enumerate(placed):
+            other = next((c for c in rows if c != r and self.wants[c].views & views), None)
+            if other is None:
+                continue
+            seen = _ray_to_walls(self.room, pos[b, other], yaw[b, other])
+            if seen is not None:
+                d = seen - cand[b]
+                out[b] = geo.yaw_facing(d)
+        return out
 
     def _clear_of_windows(self, r: int, cand: np.ndarray, cyaw: np.ndarray, k0: int,
                           tries: int) -> tuple[np.ndarray, np.ndarray]:

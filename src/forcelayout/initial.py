@@ -72,6 +72,10 @@ class _Wants:
     # the wall objects (ids) it is turned towards by a rule (a beanbag facing the TV on the
     # wall): they are hung after the floor settles, where they meet the most such rules
     views: set[str] = field(default_factory=set)
+    # per such rule: where the wall object's centre can go, (wall, u0, u1) rows of the walls'
+    # stretches clear of doors and windows (surfaces.walls.hanging_centres), and the rule's
+    # largest angle off this object's front, degrees
+    sights: list[tuple[np.ndarray, float]] = field(default_factory=list)
 
 
 def parents(model: ForceModel) -> np.ndarray:
@@ -167,6 +171,11 @@ def _wants(model: ForceModel) -> list[_Wants]:
         if b.object in row and b.target in hung and b.rule.start is not None \
                 and b.rule.start.turn == "face_target":
             out[row[b.object]].views.add(b.target)
+            hangs = model.compiled.surface_of(b.target)
+            if hangs is not None and hangs.target is None:
+                out[row[b.object]].sights.append(
+                    (hanging_centres(model.plan, hangs, None),
+                     float(getattr(b.params, "max_angle", 90.0))))
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
                 and b.target in row:
@@ -223,23 +232,34 @@ def _side_room(model: ForceModel, parent: np.ndarray, wants: list[_Wants]
     return sides, count, either
 
 
+def _rays_to_walls(room, p: np.ndarray, f: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Where the rays from the points ``p`` (K, 2) along the unit directions ``f`` (K, 2)
+    first meet a wall: the wall, the distance along it from its start and the distance
+    along the ray, each (K,) (wall -1 and distances inf for a ray that meets none)."""
+    a, t, length = room.a, room.tangent, room.length  # (W, 2), (W, 2), (W,)
+    # p + s f = a + u t: solve for s (along each ray) and u (along each wall), (K, W)
+    det = f[:, :1] * -t[None, :, 1] + t[None, :, 0] * f[:, 1:]
+    ok = np.abs(det) > 1e-12
+    safe = np.where(ok, det, 1.0)
+    d = a[None] - p[:, None]  # (K, W, 2)
+    s = (d[..., 0] * -t[None, :, 1] + t[None, :, 0] * d[..., 1]) / safe
+    u = (f[:, :1] * d[..., 1] - f[:, 1:] * d[..., 0]) / safe
+    hit = ok & (s > 1e-9) & (u >= -1e-9) & (u <= length[None] + 1e-9)
+    s = np.where(hit, s, np.inf)
+    k = np.argmin(s, axis=1)
+    rows = np.arange(len(p))
+    found = np.isfinite(s[rows, k])
+    return (np.where(found, k, -1), np.where(found, u[rows, k], np.inf),
+            np.where(found, s[rows, k], np.inf))
+
+
 def _ray_to_walls(room, p: np.ndarray, yaw: float) -> np.ndarray | None:
     """Where the ray from ``p`` (2,) along the front of heading ``yaw`` first meets a wall,
     (2,), or None (a point outside the room looking away from it)."""
-    f = np.array([-np.sin(yaw), np.cos(yaw)])
-    a, t, length = room.a, room.tangent, room.length
-    # p + s f = a + u t: solve for s (along the ray) and u (along each wall)
-    det = f[0] * -t[:, 1] + t[:, 0] * f[1]
-    ok = np.abs(det) > 1e-12
-    d = a - p
-    safe = np.where(ok, det, 1.0)
-    s = (d[:, 0] * -t[:, 1] + t[:, 0] * d[:, 1]) / safe
-    u = (f[0] * d[:, 1] - f[1] * d[:, 0]) / safe
-    hit = ok & (s > 1e-9) & (u >= -1e-9) & (u <= length + 1e-9)
-    if not hit.any():
-        return None
-    k = int(np.argmin(np.where(hit, s, np.inf)))
-    return p + s[k] * f
+    f = np.array([[-np.sin(yaw), np.cos(yaw)]])
+    _, _, s = _rays_to_walls(room, p[None], f)
+    return None if not np.isfinite(s[0]) else p + s[0] * f[0]
 
 
 def _opening_turn(room, turns: set[str], places: set[str]) -> np.ndarray | None:
@@ -558,6 +578,23 @@ def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r) -> np.ndarray:
         fits = ((wall[:, None] == spots[:, 0]) & (spots[:, 1] <= hi)
                 & (spots[:, 2] >= lo)).any(axis=1)
         unmet += ~(fits & behind)
+    return unmet
+
+
+def _unseen(room, wants: _Wants, cand: np.ndarray, fwd: np.ndarray) -> np.ndarray:
+    """Candidates (K,) of an object turned by a rule towards a wall object that look at no
+    wall it can hang on: where the front's ray meets a wall, the rule's cone there holds no
+    stretch of it clear of doors and windows for the wall object (a bed whose foot faces the
+    window, the TV it faces to hang on that wall). How many such rules each misses."""
+    unmet = np.zeros(len(cand))
+    if not wants.sights:
+        return unmet
+    wall, u, dist = _rays_to_walls(room, cand, fwd)
+    for spots, angle in wants.sights:
+        half = dist * np.tan(np.radians(min(angle, 89.0)))
+        fits = ((wall[:, None] == spots[:, 0]) & (spots[:, 1] <= (u + half)[:, None])
+                & (spots[:, 2] >= (u - half)[:, None])).any(axis=1)
+        unmet += ~fits
     return unmet
 
 
@@ -1462,6 +1499,7 @@ class _Placer:
         # the sample fails, so this ranks with a spot in a window zone (below)
         unmet = 4.0 * _unmet(self.room, w, cand.reshape(-1, 2), fwd.reshape(-1, 2),
                              rgt.reshape(-1, 2), half[r])
+        unmet += _unseen(self.room, w, cand.reshape(-1, 2), fwd.reshape(-1, 2))
         unmet += _unmet_rules(model, self.by_object[r], r, cand, cyaw, pos, yaw,
                               [placed[b] for b in sb])[:, 0]
         access = self._access_misses(r, cand, rgt, fwd, solid, pos, yaw, present)[:, 0] + zoned

@@ -178,8 +178,9 @@ def free_wall_stretches(plan: Plan, wall: int, low: float, high: float, height: 
     return free_intervals(plan.room.wall_length(wall), blocks, 0.0, 1.0, margin=margin)
 
 
-def hanging_centres(plan: Plan, binding: Binding, target_top: float) -> np.ndarray:
-    """Where on the walls the object of ``binding`` can hang above a target ``target_top`` tall.
+def hanging_centres(plan: Plan, binding: Binding, target_top: float | None) -> np.ndarray:
+    """Where on the walls the object of ``binding`` can hang above a target ``target_top`` tall
+    (``None``: in its band, with no target).
 
     The stretches along each wall (doors and windows cut out as
     :func:`place_on_walls` cuts them, furniture ignored) over which the

@@ -12,7 +12,7 @@ from forcelayout.bindings import compile_plan
 from forcelayout.errors import PlanError
 from forcelayout.geometry import RoomGeometry, box_corners
 from forcelayout.surfaces import check_surfaces, free_wall_stretches
-from forcelayout.surfaces.walls import back_wall, hanging_centres, wall_pose
+from forcelayout.surfaces.walls import back_wall, binding_walls, hanging_centres, wall_pose
 from forcelayout.validate import check_layout
 
 ROOM = {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]], "height": 2.7,
@@ -173,6 +173,12 @@ def test_hanging_centres_leave_out_openings_the_object_cannot_pass():
     assert np.allclose(spots[:, 1], 0.45) and np.allclose(spots[:, 2], [3.55, 2.55] * 2)
     # a 0.8 m tall one does not, even then
     assert np.allclose(_hanging_centres([0.9, 0.04, 0.8], max_gap=None), CUT)
+    # a wall object with no target, pinned to a wall: on that wall only (the clock, on wall
+    # 2 beside its window, in its 0.9..2.1 m band)
+    plan = fl.load_plan(PLAN)
+    clock = next(b for b in compile_plan(plan).bindings if b.object == "clock")
+    assert binding_walls(clock, 4) == [2]
+    assert np.allclose(hanging_centres(plan, clock, None), [[2, 0.15, 1.23], [2, 2.77, 3.85]])
 
 
 def test_above_keeps_the_object_within_max_gap_of_the_target():
@@ -190,7 +196,9 @@ def test_above_keeps_the_object_within_max_gap_of_the_target():
 
     assert met(1.5) and not met(1.6)  # its bottom at most 1 m above the bed's top
     assert met(1.6, max_gap=None) and met(2.0, max_gap=1.5) and not met(1.3, max_gap=0.7)
-    with pytest.raises(PlanError, match="max_gap"):
+    with pytest.raises(PlanError, match=r"rules\[0\] \(above\)\.params: max_gap \(0\.3 m\) is "
+                       r"below clearance \(0\.5 m\): no height is left between them; raise "
+                       r"max_gap or lower clearance$"):
         fl.load_plan(plan | {"rules": [{"rule": "above", "object": "painting", "target": "bed",
                                         "params": {"clearance": 0.5, "max_gap": 0.3}}]})
 

@@ -667,6 +667,11 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
                     name = str(err["loc"][-1])
                     message = (f"{r.rule!r} has no parameter {name!r}."
                                f"{_did_you_mean(name, fields)} It takes {fields}")
+                elif not err["loc"] and "error" in err.get("ctx", {}):
+                    # the rule's own check of its params together (max_gap below clearance):
+                    # its message names the params and the fix
+                    yield Problem(f"{path}.params", str(err["ctx"]["error"]))
+                    continue
                 else:
                     message = f"{_unit_hint(err, err['msg'])}; {r.rule!r} takes {fields}"
                 yield Problem(f"{path}.params.{_fmt_loc(err['loc'])}", message)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from forcelayout.bindings import compile_plan
 from forcelayout.errors import PlanError, Problem
 from forcelayout.plan import Plan
-from forcelayout.surfaces.walls import free_wall_stretches, wall_band
+from forcelayout.surfaces.walls import binding_walls, free_wall_stretches, wall_band
 
 __all__ = ["check_surfaces"]
 
@@ -45,7 +45,7 @@ def check_surfaces(plan: Plan) -> None:
             problems.append(Problem(f"{path}.params.wall", f"wall {pinned} does not exist; the "
                                     f"room has walls 0..{n_walls - 1}"))
             continue
-        walls = [int(pinned)] if pinned is not None else list(range(n_walls))
+        walls = binding_walls(b, n_walls)
         widest = max((v - u for wl in walls
                       for u, v in free_wall_stretches(plan, wl, low, high, h)), default=0.0)
         if w > widest + 1e-9:

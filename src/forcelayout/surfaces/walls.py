@@ -31,8 +31,8 @@ from forcelayout.surfaces.plane import (
     rect,
 )
 
-__all__ = ["EYE_LEVEL", "wall_pose", "wall_band", "free_wall_stretches", "hanging_centres",
-           "back_wall", "place_on_walls", "unhung", "Unhung"]
+__all__ = ["EYE_LEVEL", "wall_pose", "wall_band", "binding_walls", "free_wall_stretches",
+           "hanging_centres", "back_wall", "place_on_walls", "unhung", "Unhung"]
 
 #: Eye level, metres: wall objects settle with their centre near this height.
 EYE_LEVEL = 1.6
@@ -88,6 +88,13 @@ def wall_band(binding: Binding, room_height: float, target_top: float | None = N
         if gap is not None:
             high = min(high, target_top + float(gap) + height)
     return low, high
+
+
+def binding_walls(binding: Binding, n_walls: int) -> list[int]:
+    """The walls a wall binding's object may hang on: the one its rule's ``wall`` param
+    pins, else every wall of the room."""
+    pinned = getattr(binding.params, "wall", None)
+    return [int(pinned)] if pinned is not None else list(range(n_walls))
 
 
 def target_clearance(binding: Binding) -> float:
@@ -196,7 +203,7 @@ def hanging_centres(plan: Plan, binding: Binding, target_top: float | None) -> n
     w, _, h = plan.object(binding.object).size
     low, high = wall_band(binding, plan.room.height, target_top, h)
     rows = [(wall, a + w / 2, b - w / 2)
-            for wall in range(len(plan.room.polygon)) if high - low >= h
+            for wall in binding_walls(binding, len(plan.room.polygon)) if high - low >= h
             for a, b in free_wall_stretches(plan, wall, low, high, h, margin=_MARGIN)
             if b - a >= w]
     return np.array(rows, dtype=float).reshape(-1, 3)
@@ -495,8 +502,7 @@ def unhung(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
                 walls = [wall]
             else:
                 low, high = wall_band(b, plan.room.height)
-                pinned = getattr(b.params, "wall", None)
-                walls = [int(pinned)] if pinned is not None else list(range(room.n_walls))
+                walls = binding_walls(b, room.n_walls)
                 spans = [None]
             for wall in walls:
                 if wall not in blocks:

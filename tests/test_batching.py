@@ -339,6 +339,26 @@ def test_random_plans_solve_the_same_in_a_batch(plan, seed):
         assert lay.report.steps == alone.report.steps
 
 
+def test_a_child_draws_the_same_whether_or_not_its_batch_has_parents_at_a_wall():
+    """An armchair to the left of another that stands near the door: where the parent stood
+    at a wall in some sample of a batch, every sample drew numbers for the spots beside it
+    on that wall, and sample 0 got another layout in a batch than alone (found by
+    hypothesis)."""
+    plan = fl.Plan.from_dict({
+        "name": "generated",
+        "room": {"polygon": [[0, 0], [4.45, 0], [4.45, 6.0], [0, 6.0]], "height": 2.9,
+                 "doors": [{"wall": 3, "offset": 1.4845, "width": 0.85}]},
+        "objects": [{"id": f"armchair_{k}", "category": "armchair",
+                     "size": [0.64, 0.64, 0.72 if k < 2 else 0.73]} for k in range(3)],
+        "rules": [{"rule": "near_door", "object": "armchair_0"},
+                  {"rule": "left_of", "object": "armchair_1", "target": "armchair_0"},
+                  {"rule": "at_wall", "object": "armchair_1"}]})
+    for s, lay in enumerate(solve_many(plan, [0, 1, 2])):
+        alone = fl.solve(plan, s)
+        assert _poses(lay) == _poses(alone)
+        assert lay.report.steps == alone.report.steps
+
+
 def test_a_plan_with_nothing_on_the_floor_batches():
     plan = {"name": "gallery_wall",
             "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]]},

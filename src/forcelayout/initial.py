@@ -481,20 +481,23 @@ def _child_candidates(room, draws: _Draws, k, wants: _Wants, q: np.ndarray, r, p
         # table at the sofa's arm), not at the middle of its side
         cand = (pq + rq * (side[..., None] * (hq[:, None, 0:1] + half[r, 0] + gap))
                 - fq * (hq[:, None, 1:2] - half[r, 1]))
-        at = np.flatnonzero(wall >= 0)
-        if len(at) == 0:
-            return cand, same
         # half the draws on the parent's wall; the other half against whichever wall is
         # nearest beside the parent's side, towards its back (a nightstand at the side
         # wall of a bed near a corner); every other one of those, where a wall runs right
         # past that side, just past the parent's front edge on it (a fridge round the
         # corner from a counter that fills its corner)
         m = k // 2
+        # drawn by every sample, its parent at a wall or not: what a sample draws never
+        # depends on the other samples of its batch
+        back_share = draws.random((m, 1))
+        at = np.flatnonzero(wall >= 0)
+        if len(at) == 0:
+            return cand, same
         c, sd, gp = cand[at], side[at], gap[at]
         pa, fa, ra, ha = pq[at], fq[at], rq[at], hq[at][:, None, :]
         on_wall = _snap_to_wall(room, c[:, m:], half[r], np.repeat(wall[at, None], k - m, 1))
         out = pa + ra * (sd[:, :m, None] * (ha[..., 0:1] + half[r, 1] + gp[:, :m]))
-        back = draws.random((m, 1))[at] * half[q[at], 1][:, None, None]
+        back = back_share[at] * half[q[at], 1][:, None, None]
         near_side = _snap_to_wall(room, out - fa * back, half[r])
         past = out + fa * (ha[..., 1:2] + half[r, 0] + gp[:, :m])
         round_corner = _snap_to_wall(room, past, half[r])

@@ -90,6 +90,27 @@ def test_an_unexpected_error_is_one_line_unless_debug(tmp_path, capsys, monkeypa
         main(["--debug", "rules"])
 
 
+def test_samples_that_raise_are_told_as_a_fault_of_the_code_not_of_the_plan(tmp_path, capsys,
+                                                                            monkeypatch):
+    import forcelayout.initial as initial
+
+    def broken(*args, **kwargs):
+        raise NameError("name 'gone' is not defined")
+
+    monkeypatch.setattr(initial._Placer, "place", broken)
+    out = tmp_path / "out"
+    assert main(["generate", "bedroom", "-n", "2", "--out", str(out), "--quiet",
+                 "--max-attempts", "3"]) == 1
+    err = capsys.readouterr().err
+    hint = next(line for line in err.splitlines() if line.startswith("hint:"))
+    assert "fail 'error' (raised NameError: name 'gone' is not defined)" in hint
+    assert "3 of 3 samples raised an exception in the library or a plugin rule" in hint
+    assert "forcelayout --debug generate" in hint and "loosen" not in hint
+    with pytest.raises(NameError, match="gone"):  # that sample again, with its traceback
+        main(["--debug", "generate", "bedroom", "-n", "2", "--out", str(out), "--quiet",
+              "--max-attempts", "3", "--overwrite"])
+
+
 def test_generate_writes_json_png_and_summary(tmp_path):
     out = tmp_path / "out"
     assert main(["generate", "bedroom", "-n", "2", "--out", str(out), "--quiet"]) == 0

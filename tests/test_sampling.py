@@ -473,3 +473,23 @@ def test_a_room_too_full_to_walk_through_is_told_to_lose_furniture_not_to_sample
     assert ("before sampling the plan looked tight (if the objects stood apart, they would "
             "leave") in hint
     assert "fewer or smaller objects or a larger room will do more than samples" in hint
+
+
+def test_a_run_whose_samples_raise_names_the_exception_and_how_to_see_it(monkeypatch):
+    import forcelayout.initial as initial
+
+    def broken(*args, **kwargs):
+        raise NameError("name 'gone' is not defined")
+
+    monkeypatch.setattr(initial._Placer, "place", broken)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = fl.generate("bedroom", 2, seed=0, max_attempts=3)
+    assert len(result) == 0
+    seed = result.reports[0].seed
+    assert result.reports[0].failures == ["error: NameError: name 'gone' is not defined"]
+    hint = result.hint()
+    assert "(raised NameError: name 'gone' is not defined)" in hint
+    assert f"forcelayout.solve(plan, {seed}) raises it with its traceback" in hint
+    with pytest.raises(NameError, match="gone"):
+        fl.solve("bedroom", seed)

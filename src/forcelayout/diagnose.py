@@ -486,6 +486,7 @@ def dominant_cause(reports: Iterable[Any]) -> str | None:
     missed: Counter[str] = Counter()
     blockers: Counter[str] = Counter()
     cut_off: Counter[str] = Counter()
+    raised: Counter[str] = Counter()  # the exceptions samples raised, as their lines give them
     for lines in failing:
         # per sample, each name counts once; dicts keep the order names first appear
         seen_checks: dict[str, None] = {}
@@ -500,6 +501,9 @@ def dominant_cause(reports: Iterable[Any]) -> str | None:
             seen_checks[check] = None
             if check == "rules":
                 seen_missed.update(dict.fromkeys(missed_rules([line])))
+                continue
+            if check == "error":
+                raised[reason] += 1
                 continue
             block = _BLOCKERS.search(reason)
             if block:
@@ -528,6 +532,8 @@ def dominant_cause(reports: Iterable[Any]) -> str | None:
     parts = []
     if check == "rules" and missed:
         head += f" (miss {', '.join(_top(missed))})"
+    elif check == "error":
+        head += f" (raised {raised.most_common(1)[0][0]})"
     else:
         who = [] if check == "reachable" and blockers else _top(named.get(check, Counter()))
         if who:

@@ -39,7 +39,14 @@ from forcelayout.errors import InputError
 from forcelayout.layout import Layout
 from forcelayout.pipeline import prepare
 from forcelayout.plan import Plan
-from forcelayout.sampling import Options, generate, plan_feasibility, process_pool, stop_executor
+from forcelayout.sampling import (
+    Options,
+    generate,
+    plan_feasibility,
+    process_pool,
+    solve,
+    stop_executor,
+)
 from forcelayout.sources import load_plan
 
 __all__ = ["run_generate"]
@@ -138,6 +145,10 @@ def run_generate(args: argparse.Namespace) -> int:
     finally:
         if executor is not None:
             executor.shutdown(cancel_futures=True)
+    raised = next((r for r in result.rejected if any(f.startswith("error:") for f in r.failures)),
+                  None)
+    if raised is not None and getattr(args, "debug", False):
+        solve(plan, raised.seed, options=opts)  # that sample again: raises with its traceback
     summary = result.summary()
     summary["rejected"] = [{"seed": r.seed, "failures": r.failures} for r in result.rejected]
     (out / "summary.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")

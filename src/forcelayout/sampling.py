@@ -320,8 +320,16 @@ class Generation:
         def attempts(total: int) -> str:
             return f"--max-attempts {total}" if cli else f"max_attempts={total}"
 
+        raised = [r for r in self.rejected if any(f.startswith("error:") for f in r.failures)]
         if tried == 0:
             todo = f"allow samples with {attempts(max(4 * n, n + 20))}"
+        elif len(raised) > 0.5 * len(self.rejected):
+            # an exception is a fault of the code, not of the plan: no sample mends it
+            seed = raised[0].seed
+            show = ("run again as forcelayout --debug generate ... for its traceback" if cli else
+                    f"forcelayout.solve(plan, {seed}) raises it with its traceback")
+            todo = (f"{len(raised)} of {tried} samples raised an exception in the library or "
+                    f"a plugin rule, which neither a looser plan nor more samples mend: {show}")
         elif self.feasibility is not None and not self.feasibility.ok:
             first = self.feasibility.infeasible_notes[0]
             if first in {str(f) for f in self.feasibility.findings}:  # a rule that cannot

@@ -231,6 +231,22 @@ def test_long_thin_room_without_a_known_type():
     assert "3.0 times as long as wide" in str(plan_findings(p)[0])
 
 
+def test_two_doors_whose_swings_overlap_at_a_corner_are_implausible():
+    room = {"polygon": [[0, 0], [4, 0], [4, 4.5], [0, 4.5]], "height": 2.6,
+            "doors": [{"wall": 0, "offset": 0.7, "width": 0.9},
+                      {"wall": 3, "offset": 3.6, "width": 0.8}]}
+    p = plan([obj("desk", size=(1.2, 0.6, 0.75))], name="den", room=room)
+    found = [f for f in plan_findings(p) if f.path.startswith("room.doors")]
+    assert [str(f) for f in found] == [
+        "room.doors[1].offset: its swing (the square of its width inside the room) overlaps "
+        "that of room.doors[0] by 0.22 m²: the two open doors would hit each other; move one "
+        "along its wall, away from the corner"]
+    room["doors"][1]["offset"] = 2.6  # 1 m further from the corner: clear
+    assert not [f for f in plan_findings(plan([obj("desk", size=(1.2, 0.6, 0.75))],
+                                              name="den", room=room))
+                if f.path.startswith("room.doors")]
+
+
 def test_category_keys_and_bundled_plans_have_no_findings():
     assert category_key("Bedside Table") == "nightstand"
     assert category_key("single_bed") == "bed"
@@ -274,10 +290,13 @@ def test_autofix_clamps_openings_and_fixes_names():
     # the 2.8 m door the clamp leaves on the 3 m wall swings over nearly the whole floor: no
     # stretch of wall is clear of the swings (said once for the desk, the simpler way, not
     # again for its near_window)
+    # (and the two doors' swings overlap in their corner)
     left = plan_findings(p)
-    assert [f.message.split(":")[0] for f in left] == ["at_wall(desk_1) cannot be met",
-                                                       "at_wall(box_4) cannot be met"]
-    assert all(f.message.endswith("long is clear of the door swings") for f in left)
+    assert [f.message.split(":")[0] for f in left] == [
+        "at_wall(desk_1) cannot be met", "at_wall(box_4) cannot be met",
+        "its swing (the square of its width inside the room) overlaps that of room.doors[0] "
+        "by 0.81 m²"]
+    assert all(f.message.endswith("long is clear of the door swings") for f in left[:2])
     assert left[0].fix == ("make 'desk_1' narrower, move or narrow the openings in the way "
                            "or drop rules[0]")
     assert [o.category for o in p.objects][:2] == ["writing_desk", "chair"]

@@ -355,6 +355,28 @@ def _room_findings(plan: Plan) -> Iterable[Finding]:
                       refs=("room",))
 
 
+def _door_findings(plan: Plan) -> Iterable[Finding]:
+    """Doors on different walls whose swings (the square of a door's width inside the room,
+    which the checks keep free) overlap, as at a corner: the open doors would hit each
+    other. One finding for the later of each pair."""
+    doors = plan.room.doors
+    if len(doors) < 2:
+        return
+    geom = geo.RoomGeometry.from_room(plan.room)
+    squares = [shapely.Polygon(c) for c in geo.corners_from_axes(*geom.door_squares)]
+    for b in range(1, len(doors)):
+        for a in range(b):
+            overlap = squares[b].intersection(squares[a]).area
+            if doors[a].wall != doors[b].wall and overlap > 1e-4:
+                yield Finding(f"room.doors[{b}].offset",
+                              f"its swing (the square of its width inside the room) overlaps "
+                              f"that of room.doors[{a}] by {overlap:.2f} m²: the two open "
+                              "doors would hit each other",
+                              "move one along its wall, away from the corner",
+                              refs=(f"room.doors[{a}]", f"room.doors[{b}]"))
+                break
+
+
 def _rule(name: str) -> Rule | None:
     """The registered rule ``name`` (its class declares what the findings need), or None."""
     try:
@@ -781,7 +803,8 @@ def plan_findings(plan: Plan) -> list[Finding]:
     an object whose size is far (a factor 1.5) from its category's usual
     range (:data:`CATEGORY_SIZES`); a floor far from the usual area of the
     room type its name or description names (:data:`ROOM_AREAS`), or more
-    than 2.5 times as long as wide.
+    than 2.5 times as long as wide; two doors whose swings overlap (at a
+    corner: the open doors would hit each other).
 
     Parameters
     ----------
@@ -798,6 +821,7 @@ def plan_findings(plan: Plan) -> list[Finding]:
            *(u.finding for u in out_of_reach(plan)
              if plan.rules[u.rule].object not in stuck),  # said once, the simpler way
            *_size_findings(plan),
-           *_room_findings(plan)]
+           *_room_findings(plan),
+           *_door_findings(plan)]
     return sorted(out, key=lambda f: f.severity != "infeasible")
 

@@ -504,6 +504,32 @@ def test_a_wall_object_goes_where_its_rules_with_floor_objects_hold():
     assert np.all(met)  # 4 walls: a random wall would miss most of them
 
 
+def test_a_wall_object_hangs_first_where_the_objects_facing_it_look():
+    """Three seats facing one TV, none at a wall, each a little turned from the others:
+    the TV's first spots are where each of them looks, so the spot that meets the most of
+    their rules is found among them (a random spot on a random wall seldom is)."""
+    from forcelayout.surfaces import place_surfaces
+
+    plan = fl.Plan.from_dict({
+        "name": "den", "room": {"polygon": [[0, 0], [4, 0], [4, 4.5], [0, 4.5]]},
+        "objects": [{"id": f"seat_{k}", "category": "armchair", "size": [0.8, 0.8, 0.9]}
+                    for k in range(3)] + [{"id": "tv", "category": "tv",
+                                           "size": [1.15, 0.06, 0.7]}],
+        "rules": [{"rule": "on_wall_mid", "object": "tv"},
+                  *({"rule": "facing", "object": f"seat_{k}", "target": "tv",
+                     "params": {"max_angle": 12}} for k in range(3))]})
+    # looking at the left wall (x = 0) at y = 1.2, 1.5 and 1.7
+    floor = {"seat_0": fl.Pose(1.5, 1.0, np.pi / 2 - 0.13),
+             "seat_1": fl.Pose(2.0, 2.3, np.pi / 2 + 0.39),
+             "seat_2": fl.Pose(3.2, 3.4, np.pi / 2 + 0.53)}
+    met = 0
+    for seed in range(12):
+        out = place_surfaces(plan, floor, np.random.default_rng(seed))
+        met += all(r.satisfied for r in fl.Layout(plan, out.poses).rule_report()
+                   if r.rule == "facing")
+    assert met == 12
+
+
 def test_two_pendants_over_one_island_share_it_along_its_length():
     plan = fl.Plan.from_dict({
         "name": "kitchen", "room": {"polygon": [[0, 0], [5, 0], [5, 4], [0, 4]]},

@@ -170,16 +170,19 @@ class PhysicalTerm:
     rule relates: related pairs are spaced by their rules, kept apart by contacts);
     the door clearance pushes the ``solid`` rows (walkable floor covers may lie in a
     door's swing), and the ``slide`` rows (held at a wall by a hard rule) only along the wall.
+    The alignment leaves the ``unaligned`` rows as they turn (a beanbag a rule turns
+    towards the TV on the wall, which is hung after the floor settles).
     """
 
     annealed = False
 
     def __init__(self, pi: np.ndarray, pj: np.ndarray, weights: PhysicalWeights,
                  solid: np.ndarray | None = None, slide: np.ndarray | None = None,
-                 entry: bool | np.ndarray = True):
+                 entry: bool | np.ndarray = True, unaligned: np.ndarray | None = None):
         self.pi, self.pj, self.weights = pi, pj, weights
         self.solid = None if solid is None or solid.all() else solid.astype(float)
         self.slide = None if slide is None or not slide.any() else slide
+        self.unaligned = None if unaligned is None or not unaligned.any() else unaligned
         #: Whether doors keep their entry zones clear (else their swing squares): for
         #: every row, or per row (N,) (an object a rule wants by a door keeps out of the
         #: swing square alone, as the checks ask)
@@ -194,6 +197,7 @@ class PhysicalTerm:
                            else np.tile(self.entry, samples))
         out.solid = None if self.solid is None else np.tile(self.solid, samples)
         out.slide = None if self.slide is None else np.tile(self.slide, samples)
+        out.unaligned = None if self.unaligned is None else np.tile(self.unaligned, samples)
         return out
 
     def swing_squares_only(self) -> PhysicalTerm:
@@ -204,7 +208,7 @@ class PhysicalTerm:
 
     def __call__(self, state: State, temperature: float) -> tuple[np.ndarray, np.ndarray]:
         return physical(state, self.pi, self.pj, self.weights, self.solid, self.slide,
-                        self.entry)
+                        self.entry, self.unaligned)
 
 
 class ClosingTerm:
@@ -364,12 +368,22 @@ class ForceModel:
         #: Rows a hard placement rule holds (at a wall, in a corner): keep-out zones push
         #: them along the wall, never off it.
         self.held = self.rules.soft_torque_scale < 1.0
+        hung = {b.object for b in self.compiled.on("wall")}
+        #: Rows a rule turns towards a wall object (hung after the floor settles, so no
+        #: term of the floor turns them): those held at no wall keep the heading they
+        #: start with (:mod:`forcelayout.initial` turns it to where that object will hang).
+        self.turned_to_wall = np.zeros(n, dtype=bool)
+        for b in self.compiled.bindings:
+            if b.object in row and b.target in hung and b.rule.start is not None \
+                    and b.rule.start.turn == "face_target":
+                self.turned_to_wall[row[b.object]] = True
         w_window = self.physical_weights.window
         self.terms: list[ForceTerm] = [
             self.rules,
             PassageTerm(self.pi[free], self.pj[free], self.physical_weights),
             PhysicalTerm(self.pi[free], self.pj[free], self.physical_weights, ~self.walkable,
-                         self.held, entry=~self.wanted_at("door")),
+                         self.held, entry=~self.wanted_at("door"),
+                         unaligned=self.turned_to_wall & ~self.held),
         ]
         if self.room is self.compiled.room and self.plan.room.windows and w_window > 0:
             self.terms.append(self._window_term(w_window))

@@ -29,6 +29,7 @@ __all__ = [
     "right_vectors",
     "yaw_facing",
     "toward_nearest",
+    "rays_to_walls",
     "facing_point",
     "box_corners",
     "box_sides",
@@ -104,6 +105,43 @@ def right_vectors(yaw: np.ndarray) -> np.ndarray:
     """Unit local +x directions ``(cos yaw, sin yaw)``, shape ``yaw.shape + (2,)``."""
     yaw = np.asarray(yaw, dtype=float)
     return np.stack([np.cos(yaw), np.sin(yaw)], axis=-1)
+
+
+def rays_to_walls(room: RoomGeometry, points: np.ndarray, directions: np.ndarray
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Where rays first meet a wall of the room (what an object looks at along its front).
+
+    Parameters
+    ----------
+    room : RoomGeometry
+    points : ndarray, shape (K, 2)
+        Where the rays start.
+    directions : ndarray, shape (K, 2)
+        Unit directions of the rays.
+
+    Returns
+    -------
+    wall, along, distance : ndarray, shapes (K,)
+        The wall each ray meets first, the distance along that wall from its
+        start (``room.a``) and the distance along the ray; ``-1``, ``inf`` and
+        ``inf`` for a ray that meets none.
+    """
+    p, f = np.asarray(points, dtype=float), np.asarray(directions, dtype=float)
+    a, t, length = room.a, room.tangent, room.length  # (W, 2), (W, 2), (W,)
+    # p + s f = a + u t: solve for s (along each ray) and u (along each wall), (K, W)
+    det = f[:, :1] * -t[None, :, 1] + t[None, :, 0] * f[:, 1:]
+    ok = np.abs(det) > 1e-12
+    safe = np.where(ok, det, 1.0)
+    d = a[None] - p[:, None]  # (K, W, 2)
+    s = (d[..., 0] * -t[None, :, 1] + t[None, :, 0] * d[..., 1]) / safe
+    u = (f[:, :1] * d[..., 1] - f[:, 1:] * d[..., 0]) / safe
+    hit = ok & (s > 1e-9) & (u >= -1e-9) & (u <= length[None] + 1e-9)
+    s = np.where(hit, s, np.inf)
+    k = np.argmin(s, axis=1)
+    rows = np.arange(len(p))
+    found = np.isfinite(s[rows, k])
+    return (np.where(found, k, -1), np.where(found, u[rows, k], np.inf),
+            np.where(found, s[rows, k], np.inf))
 
 
 def box_sides(right: np.ndarray, front: np.ndarray, half: np.ndarray

@@ -26,8 +26,17 @@ from forcelayout.batching import SampleTask, drive
 from forcelayout.clearance import WindowTerm
 from forcelayout.forces import ForceModel, RuleGroup
 from forcelayout.rules.base import ParamArrays, StartHint, State
+from forcelayout.rules.shaping import unit
 from forcelayout.rules.surface import middle_span
-from forcelayout.surfaces.walls import back_wall, hanging_centres, target_middle, target_stand
+from forcelayout.surfaces.walls import (
+    MARGIN,
+    REACH,
+    back_wall,
+    hanging_centres,
+    target_middle,
+    target_stand,
+    wall_band,
+)
 from forcelayout.verdict import FloorVerdict, JudgeRequest
 
 __all__ = ["parents", "initial_poses", "start_poses", "propose_poses", "relocate", "Starts",
@@ -72,10 +81,29 @@ class _Wants:
     # the wall objects (ids) it is turned towards by a rule (a beanbag facing the TV on the
     # wall): they are hung after the floor settles, where they meet the most such rules
     views: set[str] = field(default_factory=set)
-    # per such rule: where the wall object's centre can go, (wall, u0, u1) rows of the walls'
-    # stretches clear of doors and windows (surfaces.walls.hanging_centres), and the rule's
-    # largest angle off this object's front, degrees
-    sights: list[tuple[np.ndarray, float]] = field(default_factory=list)
+    # per such rule, what the wall object needs (_Sight)
+    sights: list[_Sight] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class _Sight:
+    """A wall object a floor object is turned towards by a rule, as a start sees it."""
+
+    #: the wall object's id
+    target: str
+    #: where its centre can go: (wall, u0, u1) rows of the walls' stretches clear of doors
+    #: and windows (surfaces.walls.hanging_centres)
+    spots: np.ndarray
+    #: the rule's largest angle off the floor object's front, degrees
+    angle: float
+    #: its width, metres
+    width: float
+    #: the tallest a floor object at its wall may be with room for it above (the top of its
+    #: band less its height), metres
+    top: float
+    #: floor objects taller than this between the two block the view (the rule's
+    #: ``view_height``; none where it has none), metres
+    view_height: float
 
 
 def parents(model: ForceModel) -> np.ndarray:
@@ -173,9 +201,12 @@ def _wants(model: ForceModel) -> list[_Wants]:
             out[row[b.object]].views.add(b.target)
             hangs = model.compiled.surface_of(b.target)
             if hangs is not None and hangs.target is None:
-                out[row[b.object]].sights.append(
-                    (hanging_centres(model.plan, hangs, None),
-                     float(getattr(b.params, "max_angle", 90.0))))
+                w, _, h = model.plan.object(b.target).size
+                high = wall_band(hangs, model.plan.room.height)[1]
+                out[row[b.object]].sights.append(_Sight(
+                    b.target, hanging_centres(model.plan, hangs, None),
+                    float(getattr(b.params, "max_angle", 90.0)), float(w), high - float(h),
+                    float(getattr(b.params, "view_height", np.inf))))
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
                 and b.target in row:
@@ -232,33 +263,11 @@ def _side_room(model: ForceModel, parent: np.ndarray, wants: list[_Wants]
     return sides, count, either
 
 
-def _rays_to_walls(room, p: np.ndarray, f: np.ndarray
-                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Where the rays from the points ``p`` (K, 2) along the unit directions ``f`` (K, 2)
-    first meet a wall: the wall, the distance along it from its start and the distance
-    along the ray, each (K,) (wall -1 and distances inf for a ray that meets none)."""
-    a, t, length = room.a, room.tangent, room.length  # (W, 2), (W, 2), (W,)
-    # p + s f = a + u t: solve for s (along each ray) and u (along each wall), (K, W)
-    det = f[:, :1] * -t[None, :, 1] + t[None, :, 0] * f[:, 1:]
-    ok = np.abs(det) > 1e-12
-    safe = np.where(ok, det, 1.0)
-    d = a[None] - p[:, None]  # (K, W, 2)
-    s = (d[..., 0] * -t[None, :, 1] + t[None, :, 0] * d[..., 1]) / safe
-    u = (f[:, :1] * d[..., 1] - f[:, 1:] * d[..., 0]) / safe
-    hit = ok & (s > 1e-9) & (u >= -1e-9) & (u <= length[None] + 1e-9)
-    s = np.where(hit, s, np.inf)
-    k = np.argmin(s, axis=1)
-    rows = np.arange(len(p))
-    found = np.isfinite(s[rows, k])
-    return (np.where(found, k, -1), np.where(found, u[rows, k], np.inf),
-            np.where(found, s[rows, k], np.inf))
-
-
 def _ray_to_walls(room, p: np.ndarray, yaw: float) -> np.ndarray | None:
     """Where the ray from ``p`` (2,) along the front of heading ``yaw`` first meets a wall,
     (2,), or None (a point outside the room looking away from it)."""
     f = np.array([[-np.sin(yaw), np.cos(yaw)]])
-    _, _, s = _rays_to_walls(room, p[None], f)
+    _, _, s = geo.rays_to_walls(room, p[None], f)
     return None if not np.isfinite(s[0]) else p + s[0] * f[0]
 
 
@@ -584,21 +593,65 @@ def _unmet(room, wants: _Wants, cand, fwd, rgt, half_r) -> np.ndarray:
     return unmet
 
 
-def _unseen(room, wants: _Wants, cand: np.ndarray, fwd: np.ndarray) -> np.ndarray:
-    """Candidates (K,) of an object turned by a rule towards a wall object that look at no
-    wall it can hang on: where the front's ray meets a wall, the rule's cone there holds no
-    stretch of it clear of doors and windows for the wall object (a bed whose foot faces the
-    window, the TV it faces to hang on that wall). How many such rules each misses."""
-    unmet = np.zeros(len(cand))
-    if not wants.sights:
-        return unmet
-    wall, u, dist = _rays_to_walls(room, cand, fwd)
-    for spots, angle in wants.sights:
-        half = dist * np.tan(np.radians(min(angle, 89.0)))
-        fits = ((wall[:, None] == spots[:, 0]) & (spots[:, 1] <= (u + half)[:, None])
-                & (spots[:, 2] >= (u - half)[:, None])).any(axis=1)
-        unmet += ~fits
-    return unmet
+def _sight_spot(room, sight: _Sight, p: np.ndarray, f: np.ndarray, corners: np.ndarray,
+                tops: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """Where the wall object of ``sight`` would hang for an object at ``p`` (C, 2) looking
+    along ``f`` (C, 2), with floor objects of footprints ``corners`` (C, M, 4, 2) and
+    heights ``tops`` (M,) standing where ``counts`` (C, M) says: of the spots of its
+    stretches clear of doors and windows within the rule's angle of the front, the one
+    nearest where the front's ray meets the wall that no object too tall for it standing
+    at that wall (within the reach wall objects keep clear of) covers, widened by half
+    its width. Its centre on the wall line, (C, 2); NaN where there is none (a bed whose
+    foot faces the window, the TV it faces to hang on that wall; a wardrobe at that wall)."""
+    wall, u, dist = geo.rays_to_walls(room, p, f)
+    hit = wall >= 0
+    w = np.where(hit, wall, 0)
+    u, dist = np.where(hit, u, 0.0), np.where(hit, dist, 0.0)
+    cone = dist * np.tan(np.radians(min(sight.angle, 89.0)))
+    spots = sight.spots  # (J, 3)
+    lo = np.maximum(spots[None, :, 1], (u - cone)[:, None])  # (C, J)
+    hi = np.minimum(spots[None, :, 2], (u + cone)[:, None])
+    ok = (spots[None, :, 0] == w[:, None]) & (lo <= hi)
+    if corners.shape[1]:
+        s = np.einsum("cmkd,cd->cmk", corners, room.normal[w]) \
+            - room.normal_offset[w][:, None, None]
+        a = np.einsum("cmkd,cd->cmk", corners, room.tangent[w]) \
+            - room.tangent_offset[w][:, None, None]
+        length = room.length[w][:, None]
+        widen = sight.width / 2 + MARGIN
+        b0 = np.clip(a.min(axis=2), 0.0, length)  # (C, M)
+        b1 = np.clip(a.max(axis=2), 0.0, length)
+        blocks = counts & (s.min(axis=2) <= REACH) & (tops[None] > sight.top + 1e-9) \
+            & (b1 - b0 > 1e-3)
+        b0, b1 = b0 - widen, b1 + widen
+    else:
+        b0 = b1 = np.zeros((len(p), 0))
+        blocks = np.zeros((len(p), 0), dtype=bool)
+    x = np.concatenate([u[:, None], lo, hi, b0 - 1e-6, b1 + 1e-6], axis=1)  # (C, P)
+    allowed = ((lo[:, None] <= x[..., None]) & (x[..., None] <= hi[:, None])
+               & ok[:, None]).any(axis=2)
+    covered = ((b0[:, None] < x[..., None]) & (x[..., None] < b1[:, None])
+               & blocks[:, None]).any(axis=2)
+    off = np.where(allowed & ~covered & hit[:, None], np.abs(x - u[:, None]), np.inf)
+    k = np.argmin(off, axis=1)
+    rows = np.arange(len(p))
+    best = x[rows, k]
+    point = room.a[w] + room.tangent[w] * best[:, None]
+    return np.where(np.isfinite(off[rows, k])[:, None], point, np.nan)
+
+
+def _across(a: np.ndarray, b: np.ndarray, pos: np.ndarray, right: np.ndarray,
+            front: np.ndarray, half: np.ndarray, width: float = 0.1) -> np.ndarray:
+    """Whether rectangles (C, M) at ``pos`` (C, M, 2) with unit axes ``right``, ``front``
+    (C, M, 2) and half extents ``half`` (M, 2) stand on the lines of sight from ``a`` to
+    ``b`` (C, 2 each), strips ``width`` metres wide (as
+    :func:`~forcelayout.rules.shaping.view_blockers` sees them)."""
+    u, length = unit(b - a, fallback=True)
+    mid = 0.5 * (a + b)
+    perp = np.stack([u[:, 1], -u[:, 0]], axis=1)
+    strip = np.stack([np.full(len(a), 0.5 * width), 0.5 * length], axis=1)
+    return geo.obb_separation(pos - mid[:, None], perp[:, None], u[:, None], strip[:, None],
+                              right, front, np.broadcast_to(half, pos.shape)) < 0.0
 
 
 def _bindings_of(model: ForceModel) -> list[list[tuple[RuleGroup, int]]]:
@@ -1086,6 +1139,7 @@ class _Placer:
         self.by_object = _bindings_of(model)
         self.window = next((t for t in model.terms if isinstance(t, WindowTerm)), None)
         self.access = next((t for t in model.terms if isinstance(t, AccessTerm)), None)
+        self.viewers = [r for r in range(n) if wants[r].sights]
         self.order = _order(parent, model.size[:, 0] * model.size[:, 1], model.walkable)
         self.sides, self.side_count, self.either = _side_room(model, parent, wants)
         # the rows a side-by-side binding ties to each row, either way round, other than
@@ -1357,22 +1411,64 @@ class _Placer:
 
     def _toward_views(self, r: int, placed: Sequence[Sequence[int]], pos: np.ndarray,
                       yaw: np.ndarray, cand: np.ndarray, cyaw: np.ndarray) -> np.ndarray:
-        """Headings (B, K) of row ``r``'s candidates (B, K, 2) turned towards where a placed
-        object that faces the same wall object looks (the first such one in its sample):
-        the wall its front points at, where that wall object will hang to meet them both
-        (a beanbag turned to the wall at the foot of the bed, where the TV goes). A sample
-        with none such placed keeps its headings."""
-        views = self.wants[r].views
+        """Headings (B, K) of row ``r``'s candidates (B, K, 2) turned towards where a wall
+        object it is turned to by a rule will hang for a placed object facing it too (the
+        first such one in its sample; :meth:`_shared_spots`), else where that object
+        looks: a beanbag turned to the wall at the foot of the bed, where the TV goes. A
+        sample with none such placed keeps its headings."""
+        w = self.wants[r]
         out = cyaw.copy()
+        spot = (self._shared_spots(r, w.sights[0], placed, pos, yaw) if w.sights
+                else np.full((len(placed), 2), np.nan))
         for b, rows in enumerate(placed):
-            other = next((c for c in rows if c != r and self.wants[c].views & views), None)
-            if other is None:
-                continue
-            seen = _ray_to_walls(self.room, pos[b, other], yaw[b, other])
-            if seen is not None:
-                d = seen - cand[b]
-                out[b] = geo.yaw_facing(d)
+            aim: np.ndarray | None = spot[b]
+            if not np.isfinite(spot[b, 0]):
+                other = next((c for c in rows if c != r and self.wants[c].views & w.views),
+                             None)
+                aim = None if other is None else _ray_to_walls(self.room, pos[b, other],
+                                                                yaw[b, other])
+            if aim is not None:
+                out[b] = geo.yaw_facing(aim - cand[b])
         return out
+
+    def _first_viewers(self, r: int, target: str, placed: Sequence[Sequence[int]]
+                       ) -> list[tuple[int, _Sight] | None]:
+        """For each sample, the first object it placed, other than ``r``, turned by a rule
+        towards the wall object ``target``, with that rule's sight (None: none placed)."""
+        out: list[tuple[int, _Sight] | None] = []
+        for rows in placed:
+            out.append(next(((c, sg) for c in rows if c != r
+                             for sg in self.wants[c].sights if sg.target == target), None))
+        return out
+
+    def _shared_spots(self, r: int, sight: _Sight, placed: Sequence[Sequence[int]],
+                      pos: np.ndarray, yaw: np.ndarray) -> np.ndarray:
+        """Where the wall object of ``sight`` will hang in each sample (poses (B, N, 2),
+        (B, N)) for the first placed object facing it other than ``r``
+        (:func:`_sight_spot`, with the placed floor objects standing), (B, 2); NaN
+        where no such object is placed or it leaves no spot."""
+        out = np.full((len(placed), 2), np.nan)
+        firsts = self._first_viewers(r, sight.target, placed)
+        for q in {f[0] for f in firsts if f is not None}:
+            bs = np.array([b for b, f in enumerate(firsts) if f is not None and f[0] == q])
+            own = next(f[1] for f in firsts if f is not None and f[0] == q)
+            solid = [c for c in range(self.model.n) if not self.walkable[c] and c != q]
+            counts = np.array([[c in placed[b] for c in solid] for b in bs],
+                              dtype=bool).reshape(len(bs), len(solid))
+            rows = np.array(solid, dtype=int)
+            out[bs] = _sight_spot(self.room, own, pos[bs, q], geo.front_vectors(yaw[bs, q]),
+                                  self._footprints(rows, pos[bs], yaw[bs]),
+                                  self.model.size[rows, 2], counts)
+        return out
+
+    def _footprints(self, rows: np.ndarray, pos: np.ndarray, yaw: np.ndarray) -> np.ndarray:
+        """Footprint corners (B, M, 4, 2) of ``rows`` (M,) at poses (B, N, 2), (B, N)."""
+        b, m = len(pos), len(rows)
+        c = geo.corners_from_axes(pos[:, rows].reshape(-1, 2),
+                                  geo.right_vectors(yaw[:, rows]).reshape(-1, 2),
+                                  geo.front_vectors(yaw[:, rows]).reshape(-1, 2),
+                                  np.tile(self.half[rows], (b, 1)))
+        return c.reshape(b, m, 4, 2)
 
     def _clear_of_windows(self, r: int, cand: np.ndarray, cyaw: np.ndarray, k0: int,
                           tries: int) -> tuple[np.ndarray, np.ndarray]:
@@ -1502,7 +1598,8 @@ class _Placer:
         # the sample fails, so this ranks with a spot in a window zone (below)
         unmet = 4.0 * _unmet(self.room, w, cand.reshape(-1, 2), fwd.reshape(-1, 2),
                              rgt.reshape(-1, 2), half[r])
-        unmet += _unseen(self.room, w, cand.reshape(-1, 2), fwd.reshape(-1, 2))
+        unmet += self._sight_misses(r, cand, rgt, fwd, solid, pos, yaw, present,
+                                    [placed[b] for b in sb])
         unmet += _unmet_rules(model, self.by_object[r], r, cand, cyaw, pos, yaw,
                               [placed[b] for b in sb])[:, 0]
         access = self._access_misses(r, cand, rgt, fwd, solid, pos, yaw, present)[:, 0] + zoned
@@ -1511,6 +1608,71 @@ class _Placer:
             # a spot in a window zone ranks below one that misses any few rules
             unmet += 4.0 * self._in_window_zone(r, cand, rgt, fwd)[:, 0]
         return unmet + cramped, access
+
+    def _sight_misses(self, r: int, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray,
+                      solid: list[int], pos: np.ndarray, yaw: np.ndarray,
+                      present: np.ndarray | None, placed: Sequence[Sequence[int]]
+                      ) -> np.ndarray:
+        """The rules towards wall objects each candidate (C, 1, 2) of row ``r`` would make
+        miss, each in its own sample's room (poses (C, N, 2), (C, N); the ``solid`` rows
+        standing where ``present`` (C, S) says, ``placed[c]`` in placing order), shape (C,).
+
+        Of placed objects turned towards a wall object: those it leaves with no spot for
+        the wall object where they look (a wardrobe at the wall the bed faces, where the
+        TV is to hang) or whose view of that spot it stands in, taller than the rule's
+        ``view_height``. Of its own such rules: those with no spot for the wall object
+        (where a placed object facing it too looks, else where it looks itself), the spot
+        outside its angle or the view of it blocked by a placed object.
+        """
+        n = len(cand)
+        out = np.zeros(n)
+        w = self.wants[r]
+        viewers = [p for p in self.viewers if p != r and p in solid]
+        if not (viewers or w.sights):
+            return out
+        h, room = self.model.size[:, 2], self.room
+        rows = np.array(solid, dtype=int)
+        m = len(rows)
+        seen = np.ones((n, m), dtype=bool) if present is None else present
+        corners = self._footprints(rows, pos, yaw)  # (C, M, 4, 2)
+        tops = h[rows]
+        c, f, rg = cand[:, 0], fwd[:, 0], rgt[:, 0]
+        for p in viewers if not self.walkable[r] else []:
+            k = solid.index(p)
+            counts = seen.copy()
+            counts[:, k] = False  # not in its own way
+            at, front = pos[:, p], geo.front_vectors(yaw[:, p])
+            for sight in self.wants[p].sights:
+                hides, in_view = h[r] > sight.top, h[r] > sight.view_height
+                if not (hides or in_view):
+                    continue
+                spot = _sight_spot(room, sight, at, front, corners, tops, counts)
+                had = seen[:, k] & np.isfinite(spot[:, 0])
+                if hides:
+                    mine = geo.corners_from_axes(c, rg, f, np.tile(self.half[r], (n, 1)))
+                    after = _sight_spot(room, sight, at, front,
+                                        np.concatenate([corners, mine[:, None]], axis=1),
+                                        np.append(tops, h[r]),
+                                        np.concatenate([counts, np.ones((n, 1), bool)], 1))
+                    out += had & np.isnan(after[:, 0])
+                if in_view:
+                    out += had & _across(at, np.where(had[:, None], spot, at), c[:, None],
+                                         rg[:, None], f[:, None], self.half[r][None])[:, 0]
+        for sight in w.sights:
+            spot = self._shared_spots(r, sight, placed, pos, yaw)
+            own = np.isnan(spot[:, 0])  # none placed facing it (or no spot for it there)
+            if own.any():
+                spot[own] = _sight_spot(room, sight, c[own], f[own], corners[own], tops,
+                                        seen[own])
+            found = np.isfinite(spot[:, 0])
+            d = np.where(found[:, None], spot - c, f)
+            off = np.abs(np.arctan2(f[:, 0] * d[:, 1] - f[:, 1] * d[:, 0], (f * d).sum(1)))
+            tall = seen & (tops[None] > sight.view_height)
+            blocked = (_across(c, np.where(found[:, None], spot, c), pos[:, rows],
+                               geo.right_vectors(yaw[:, rows]), geo.front_vectors(yaw[:, rows]),
+                               self.half[rows]) & tall).any(axis=1)
+            out += ~found | (off > np.radians(sight.angle)) | blocked
+        return out
 
     def _in_window_zone(self, r: int, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray
                         ) -> np.ndarray:

@@ -273,7 +273,7 @@ def wall_gaps(state: State) -> np.ndarray:
 def physical(
     state: State, pi: np.ndarray, pj: np.ndarray, w: PhysicalWeights,
     solid: np.ndarray | None = None, slide: np.ndarray | None = None,
-    entry: bool | np.ndarray = True,
+    entry: bool | np.ndarray = True, unaligned: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Sum of all always-on terms: repulsion, boundary, alignment, door clearance.
 
@@ -281,15 +281,17 @@ def physical(
     walkable floor covers may lie in a door's swing. ``slide`` (N,) marks rows
     pushed out of door squares along their wall only, and ``entry`` says whether
     doors keep their entry zones or only their swing squares clear (see
-    :func:`door_clearance`).
+    :func:`door_clearance`); the alignment turns no ``unaligned`` (N,) row.
     """
     f = np.zeros((state.n, 2))
     tau = np.zeros(state.n)
     fd, td = door_clearance(state, w, slide, entry)
     if solid is not None:
         fd = fd * solid[:, None]
-    for fk, tk in (repulsion(state, pi, pj, w), boundary(state, w), alignment(state, w),
-                   (fd, td)):
+    fa, ta = alignment(state, w)
+    if unaligned is not None:
+        ta = np.where(unaligned, 0.0, ta)
+    for fk, tk in (repulsion(state, pi, pj, w), boundary(state, w), (fa, ta), (fd, td)):
         f += fk
         tau += tk
     return f, tau

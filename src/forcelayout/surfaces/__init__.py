@@ -33,7 +33,13 @@ from forcelayout.surfaces.ceiling import place_on_ceiling
 from forcelayout.surfaces.check import check_surfaces
 from forcelayout.surfaces.plane import AnchorTerm, SurfacePlacement
 from forcelayout.surfaces.tops import place_on_tops
-from forcelayout.surfaces.walls import EYE_LEVEL, free_wall_stretches, place_on_walls, wall_pose
+from forcelayout.surfaces.walls import (
+    EYE_LEVEL,
+    REACH,
+    free_wall_stretches,
+    place_on_walls,
+    wall_pose,
+)
 
 __all__ = [
     "EYE_LEVEL",
@@ -55,7 +61,7 @@ def place_surfaces(
     *,
     relations: bool = True,
     solver: SolverConfig | None = None,
-    reach: float = 0.3,
+    reach: float = REACH,
 ) -> SurfacePlacement:
     """Place every off-floor object of the plan, given the floor objects' poses.
 
@@ -89,7 +95,7 @@ def surface_task(
     *,
     relations: bool = True,
     solver: SolverConfig | None = None,
-    reach: float = 0.3,
+    reach: float = REACH,
     models: dict | None = None,
 ) -> SampleTask[SurfacePlacement]:
     """:func:`place_surfaces` as a sample task (:mod:`forcelayout.batching`).
@@ -119,7 +125,7 @@ def place_surfaces_batch(
     *,
     relations: bool = True,
     solver: SolverConfig | None = None,
-    reach: float = 0.3,
+    reach: float = REACH,
 ) -> list[SurfacePlacement]:
     """:func:`place_surfaces` for many samples of one plan, each plane simulated as a batch.
 

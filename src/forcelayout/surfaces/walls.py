@@ -18,7 +18,7 @@ import numpy as np
 
 from forcelayout.batching import SampleTask, SimRequest
 from forcelayout.bindings import Binding, CompiledPlan
-from forcelayout.geometry import RoomGeometry, box_corners, front_vectors
+from forcelayout.geometry import RoomGeometry, box_corners, front_vectors, rays_to_walls
 from forcelayout.layout import Pose
 from forcelayout.options import SolverConfig
 from forcelayout.plan import Plan
@@ -31,12 +31,15 @@ from forcelayout.surfaces.plane import (
     rect,
 )
 
-__all__ = ["EYE_LEVEL", "wall_pose", "wall_band", "binding_walls", "free_wall_stretches",
-           "hanging_centres", "back_wall", "place_on_walls", "unhung", "Unhung"]
+__all__ = ["EYE_LEVEL", "REACH", "MARGIN", "wall_pose", "wall_band", "binding_walls",
+           "free_wall_stretches", "hanging_centres", "back_wall", "place_on_walls", "unhung",
+           "Unhung"]
 
 #: Eye level, metres: wall objects settle with their centre near this height.
 EYE_LEVEL = 1.6
-_MARGIN = 0.02
+#: How far from a wall (metres) a floor object stands in the way of the wall objects above
+#: it (the default ``reach`` of placing them), and the gap they keep to what blocks them.
+REACH, MARGIN = 0.3, 0.02
 
 Block = tuple[float, float, float, float]  # (u0, u1, v0, v1) metres
 
@@ -147,7 +150,7 @@ def _object_blocks(room: RoomGeometry, wall: int, corners: np.ndarray, tops: np.
 
 
 def free_intervals(length: float, blocks: list[Block], v0: float, v1: float,
-                   margin: float = _MARGIN) -> list[tuple[float, float]]:
+                   margin: float = MARGIN) -> list[tuple[float, float]]:
     """Intervals of ``[0, length]`` not blocked by any zone overlapping heights ``(v0, v1)``."""
     cuts = sorted((b[0] - margin, b[1] + margin) for b in blocks
                   if b[2] < v1 - 1e-9 and b[3] > v0 + 1e-9)
@@ -204,7 +207,7 @@ def hanging_centres(plan: Plan, binding: Binding, target_top: float | None) -> n
     low, high = wall_band(binding, plan.room.height, target_top, h)
     rows = [(wall, a + w / 2, b - w / 2)
             for wall in binding_walls(binding, len(plan.room.polygon)) if high - low >= h
-            for a, b in free_wall_stretches(plan, wall, low, high, h, margin=_MARGIN)
+            for a, b in free_wall_stretches(plan, wall, low, high, h, margin=MARGIN)
             if b - a >= w]
     return np.array(rows, dtype=float).reshape(-1, 3)
 
@@ -371,18 +374,22 @@ def _related_spot(cp: CompiledPlan, oid: str, poses: dict[str, Pose], related: l
                   band: tuple[float, float], walls: list[int], rng: np.random.Generator
                   ) -> tuple[int, tuple[float, float]] | None:
     """Where a wall object goes whose rules tie it to floor objects: of a few free spots
-    on ``walls`` (random walls: each spot on the next of them), the first meeting the most
-    of the ``related`` rules, judged with the poses placed so far (the floor and the
-    tops); ``(wall, (u, v))``, or None where no spot is free."""
+    on ``walls`` (first those where the floor objects turned towards it look,
+    :func:`_look_spots`; then random walls, each spot on the next of them; on a wall,
+    each free stretch as likely as the next, however short: the one short stretch a bed
+    faces beside the wardrobe), the first meeting the most of the ``related`` rules,
+    judged with the poses placed so far (the floor and the tops); ``(wall, (u, v))``, or
+    None where no spot is free."""
     from forcelayout.layout import Layout
     from forcelayout.report import judge_rules_many
 
     room = cp.room
     w, d, h = size
-    spots = []
+    spots = _look_spots(cp, oid, poses, blocks, size, band, walls)
     for k in range(_RELATED_SPOTS):
         wall = walls[k % len(walls)]
-        spot = _wall_spot(room.length[wall], blocks[wall], w, h, band[0], band[1], None, rng)
+        spot = _wall_spot(room.length[wall], blocks[wall], w, h, band[0], band[1], None, rng,
+                          even=True)
         if spot is not None:
             spots.append((wall, spot))
     if not spots:
@@ -394,15 +401,47 @@ def _related_spot(cp: CompiledPlan, oid: str, poses: dict[str, Pose], related: l
     return spots[int(np.argmin(unmet))]
 
 
+def _look_spots(cp: CompiledPlan, oid: str, poses: dict[str, Pose],
+                blocks: dict[int, list[Block]], size: tuple[float, float, float],
+                band: tuple[float, float], walls: list[int]
+                ) -> list[tuple[int, tuple[float, float]]]:
+    """The free spots nearest where each placed floor object that a rule turns towards
+    wall object ``oid`` looks (the first wall its front meets; a beanbag, an exercise bike
+    and an armchair facing one TV), at the first height of the band with room there."""
+    room = cp.room
+    w, _, h = size
+    out = []
+    for b in cp.bindings:
+        if b.target != oid or b.object not in poses or b.rule.start is None \
+                or b.rule.start.turn != "face_target":
+            continue
+        pose = poses[b.object]
+        wall, u, _ = rays_to_walls(room, np.array([[pose.x, pose.y]]),
+                                   front_vectors(np.array([pose.yaw])))
+        wall = int(wall[0])
+        if wall not in walls:
+            continue
+        for v in _heights(blocks[wall], h, band[0], band[1]):
+            ranges = _centres(room.length[wall], blocks[wall], w, h, v, None)
+            if ranges:
+                at = min((float(np.clip(u[0], a, c)) for a, c in ranges),
+                         key=lambda x: abs(x - float(u[0])))
+                out.append((wall, (at, float(v))))
+                break
+    return out
+
+
 def _wall_spot(length: float, blocks: list[Block], w: float, h: float, low: float,
-               high: float, span: tuple[float, float] | None, rng: np.random.Generator
-               ) -> tuple[float, float] | None:
+               high: float, span: tuple[float, float] | None, rng: np.random.Generator,
+               *, even: bool = False) -> tuple[float, float] | None:
     """A free ``(u centre, v bottom)`` for a ``w x h`` object in the band, or None.
 
     Heights are tried at eye level first, then just above or below each
-    obstacle, then the band's ends, then at random. With a ``span`` (the
-    target's extent along the wall) the object's centre stays inside it, as
-    close to the span's middle as the free stretch allows.
+    obstacle, then the band's ends, then at random. The centre lies in one of
+    the free stretches, the longer ones the likelier (``even``: each as
+    likely). With a ``span`` (the target's extent along the wall) the
+    object's centre stays inside it, as close to the span's middle as the
+    free stretch allows.
     """
     if high - low < h:
         return None
@@ -412,7 +451,7 @@ def _wall_spot(length: float, blocks: list[Block], w: float, h: float, low: floa
         if not ranges:
             continue
         lens = np.array([b - a for a, b in ranges]) + 1e-6
-        k = int(rng.choice(len(ranges), p=lens / lens.sum()))
+        k = int(rng.choice(len(ranges), p=None if even else lens / lens.sum()))
         u = float(rng.uniform(*ranges[k]))
         if span is not None:  # centred over the target where the free stretch allows
             mid = 0.5 * (span[0] + span[1])
@@ -444,7 +483,7 @@ def _centres(length: float, blocks: list[Block], w: float, h: float, v: float,
 
 
 def unhung(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
-           reach: float = 0.3) -> list[list[tuple[str, str | None, list[str]]]]:
+           reach: float = REACH) -> list[list[tuple[str, str | None, list[str]]]]:
     """The wall objects that would find no free stretch of wall, for floor arrangements.
 
     Judged as :func:`place_on_walls` looks for a first spot, with the doors,

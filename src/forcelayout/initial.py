@@ -365,9 +365,11 @@ def _wall_candidates(
     half: np.ndarray,
     near: np.ndarray | None,
     sides: np.ndarray | None = None,
+    weight: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """``k`` poses per sample (B, k) with the back against a random wall (or the wall
-    nearest each of the ``near`` points, (B, k, 2), if given).
+    nearest each of the ``near`` points, (B, k, 2), if given). ``weight`` (B, W), where
+    given, draws each sample's walls by it instead of by their lengths.
 
     ``sides`` (metres to keep free on the left and the right, see
     :func:`_side_room`) asks for walls long enough for the object and the
@@ -376,6 +378,7 @@ def _wall_candidates(
     """
     if near is not None:
         return _snap_to_wall(room, near, half)
+    own = weight
     left, right = (0.0, 0.0) if sides is None else (float(sides[0]), float(sides[1]))
     ok = room.length >= 2 * half[0] + left + right + 0.02
     end = half[0] + 0.01  # the centre's distance from either end of the wall
@@ -386,10 +389,15 @@ def _wall_candidates(
     weight = np.where(ok, room.length, 0.0)
     if weight.sum() <= 0:
         weight = room.length.copy()
-    # a wall drawn by its length
-    cdf = np.cumsum(weight / weight.sum())
-    cdf /= cdf[-1]
-    walls = np.minimum(cdf.searchsorted(draws.random(k), side="right"), len(cdf) - 1)
+    if own is not None:  # each sample's walls by its own weights
+        cdf = np.cumsum(own, axis=1)
+        cdf /= cdf[:, -1:]
+        walls = np.minimum((draws.random(k)[..., None] >= cdf[:, None, :]).sum(axis=2),
+                           len(room.length) - 1)
+    else:  # a wall drawn by its length
+        cdf = np.cumsum(weight / weight.sum())
+        cdf /= cdf[-1]
+        walls = np.minimum(cdf.searchsorted(draws.random(k), side="right"), len(cdf) - 1)
     slack = np.maximum(room.length[walls] - 2 * end, 0.0)
     along = end + draws.random(k) * slack
     cand = room.a[walls] + room.tangent[walls] * along[..., None]
@@ -1389,6 +1397,10 @@ class _Placer:
                                                yaw, half, self.radius, spread)
             cand = np.concatenate([cand, more], axis=1)
             cyaw = np.concatenate([cyaw, more_yaw], axis=1)
+        if w.sights and not corner:  # turned to a wall object a placed object faces too
+            more, more_yaw = self._toward_spot(r, draws, tries // 2, placed, pos, yaw)
+            cand = np.concatenate([cand, more], axis=1)
+            cyaw = np.concatenate([cyaw, more_yaw], axis=1)
         # fall-backs after the proposals: anywhere at a wall for objects that
         # belong at one, anywhere in the room for the rest
         extra = tries // 2
@@ -1430,6 +1442,43 @@ class _Placer:
             if aim is not None:
                 out[b] = geo.yaw_facing(aim - cand[b])
         return out
+
+    def _toward_spot(self, r: int, draws: _Draws, k: int, placed: Sequence[Sequence[int]],
+                     pos: np.ndarray, yaw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``k`` candidate poses (B, k) of row ``r`` from where the wall object of its first
+        such rule can be seen, where a placed object faces it too (:meth:`_shared_spots`):
+        at a wall that looks towards that spot for an object that stands at a wall (the
+        second bed, backed against the wall across from the TV), else in front of the spot
+        within the rule's angle, 1-3 m off, turned to it. A sample with no such spot draws
+        at any wall, or anywhere, instead (every sample draws as many numbers)."""
+        room, half = self.room, self.half[r]
+        sight = self.wants[r].sights[0]
+        spot = self._shared_spots(r, sight, placed, pos, yaw)  # (B, 2)
+        found = np.isfinite(spot[:, 0])
+        at = np.where(found[:, None], spot, room.centroid)
+        if "wall" in self.wants[r].places:
+            mid = 0.5 * (room.a + room.b)  # (W, 2)
+            to = at[:, None] - mid[None]  # (B, W, 2)
+            look = (to * room.normal[None]).sum(2) \
+                >= np.cos(np.radians(45.0)) * np.hypot(to[..., 0], to[..., 1])
+            ok = look & found[:, None] & (room.length >= 2 * half[0] + 0.02)[None]
+            weight = np.where(ok.any(axis=1)[:, None], ok * room.length, room.length)
+            return _wall_candidates(room, draws, k, half, None, weight=weight)
+        # in front of the spot: off the normal of its wall by up to 0.7 of the rule's angle
+        d = room.a[None] - at[:, None]  # (B, W, 2): the wall the spot lies on
+        along = np.clip((-d * room.tangent[None]).sum(2), 0.0, room.length[None])
+        off = room.a[None] + room.tangent[None] * along[..., None] - at[:, None]
+        wall = np.argmin(np.hypot(off[..., 0], off[..., 1]), axis=1)
+        n = room.normal[wall][:, None]  # (B, 1, 2)
+        turn = draws.uniform(-1.0, 1.0, k) * 0.7 * np.radians(min(sight.angle, 60.0))
+        dist = draws.uniform(1.0, 3.0, k) + half[1]
+        c, s_ = np.cos(turn), np.sin(turn)
+        ray = np.stack([c * n[..., 0] - s_ * n[..., 1], s_ * n[..., 0] + c * n[..., 1]], axis=2)
+        cand = at[:, None] + ray * dist[..., None]
+        anywhere = draws.uniform(self.lo, self.hi, (k, 2))
+        cand = np.where(found[:, None, None], cand, anywhere)
+        cyaw = geo.yaw_facing((at[:, None] - cand).reshape(-1, 2)).reshape(cand.shape[:2])
+        return cand, cyaw
 
     def _first_viewers(self, r: int, target: str, placed: Sequence[Sequence[int]]
                        ) -> list[tuple[int, _Sight] | None]:
@@ -1654,7 +1703,9 @@ class _Placer:
                                         np.concatenate([corners, mine[:, None]], axis=1),
                                         np.append(tops, h[r]),
                                         np.concatenate([counts, np.ones((n, 1), bool)], 1))
-                    out += had & np.isnan(after[:, 0])
+                    gone = np.isnan(after[:, 0])
+                    moved = ~gone & (np.abs(after - spot).max(axis=1) > 0.05)
+                    out += had * (gone + 0.5 * moved)
                 if in_view:
                     out += had & _across(at, np.where(had[:, None], spot, at), c[:, None],
                                          rg[:, None], f[:, None], self.half[r][None])[:, 0]

@@ -473,6 +473,29 @@ def test_a_crowded_bedroom_faces_its_wall_tv_from_the_bed_and_the_beanbag():
     assert missed <= 6
 
 
+def test_objects_facing_a_wall_object_start_a_viewing_distance_from_it():
+    """An armchair, a treadmill and an exercise bike facing one TV on the wall: a start
+    whose front comes nearer the TV's spot than a viewer sits ranks as missing its rule
+    (a treadmill with its console under the TV stood in the others' view of it: all
+    three rules met in 46 of these 60 samples before, 57 after)."""
+    plan = fl.Plan.from_dict({
+        "name": "den",
+        "room": {"polygon": [[0, 0], [4.0, 0], [4.0, 4.5], [0, 4.5]], "height": 2.6,
+                 "doors": [{"wall": 0, "offset": 0.7, "width": 0.9}]},
+        "objects": [{"id": "tv", "category": "tv", "size": [1.15, 0.06, 0.7]},
+                    {"id": "armchair", "category": "armchair", "size": [0.85, 0.85, 0.95]},
+                    {"id": "treadmill", "category": "treadmill", "size": [0.8, 1.9, 1.4]},
+                    {"id": "bike", "category": "exercise_bike", "size": [0.6, 1.2, 1.2]},
+                    {"id": "rack", "category": "dumbbell_rack", "size": [1.0, 0.4, 0.8]}],
+        "rules": [{"rule": "on_wall_mid", "object": "tv"},
+                  *({"rule": "facing", "object": o, "target": "tv"}
+                    for o in ("armchair", "treadmill", "bike")),
+                  {"rule": "at_wall", "object": "rack"}]})
+    met = sum(all(r.satisfied for r in lay.rule_report() if r.rule == "facing")
+              for lay in fl.sampling.solve_many(plan, list(range(60))))
+    assert met >= 53
+
+
 def test_an_object_draws_again_where_no_candidate_meets_its_rules():
     """A table that should stand 3.5 m from a sofa in the corner of a 6 x 4 m room: few
     spots qualify, so where the first draw has none, a second one is made."""

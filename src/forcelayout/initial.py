@@ -54,6 +54,9 @@ _ALL_MET = 20.0
 #: How far (metres) a footprint may reach into an access zone before it counts as standing
 #: in it.
 _INTRUDE = 0.02
+#: How far (metres) the front of an object a rule turns towards a wall object starts from
+#: where that object will hang, at the least.
+_VIEWING = 0.8
 #: Uniform numbers each sample's generator gives at a time for a candidate draw (``_Draws``).
 _BLOCK = 256
 #: Gaps a child starts at beside or in front of its parent, metres (drawn uniformly).
@@ -1722,7 +1725,11 @@ class _Placer:
             blocked = (_across(c, np.where(found[:, None], spot, c), pos[:, rows],
                                geo.right_vectors(yaw[:, rows]), geo.front_vectors(yaw[:, rows]),
                                self.half[rows]) & tall).any(axis=1)
-            out += ~found | (off > np.radians(sight.angle)) | blocked
+            # its front no nearer the wall object than a viewer sits (an armchair with its
+            # knees at the TV's wall; a treadmill's console under the TV, in the view of
+            # the others facing it)
+            close = np.hypot(d[:, 0], d[:, 1]) < self.half[r, 1] + _VIEWING
+            out += ~found | (off > np.radians(sight.angle)) | blocked | (found & close)
         return out
 
     def _in_window_zone(self, r: int, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray

@@ -451,6 +451,8 @@ def test_an_object_turned_towards_a_wall_object_is_not_squared_up_by_the_floor()
     model = ForceModel(plan)
     bag = model.ids.index("beanbag")
     # the bed is turned to the TV too, but held square by its wall
+    assert sorted((b.object, b.target) for b in model.wall_views) == [("beanbag", "tv"),
+                                                                      ("bed", "tv")]
     assert model.turned_to_wall.tolist() == [True, True]
     assert (model.turned_to_wall & ~model.held).tolist() == [k == bag for k in range(model.n)]
 

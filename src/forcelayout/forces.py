@@ -369,14 +369,18 @@ class ForceModel:
         #: them along the wall, never off it.
         self.held = self.rules.soft_torque_scale < 1.0
         hung = {b.object for b in self.compiled.on("wall")}
-        #: Rows a rule turns towards a wall object (hung after the floor settles, so no
-        #: term of the floor turns them): those held at no wall keep the heading they
-        #: start with (:mod:`forcelayout.initial` turns it to where that object will hang).
+        #: Bindings whose rule turns a row towards a wall object (``facing(bed, tv)``):
+        #: the wall object is hung after the floor settles, so no term of the floor turns
+        #: the row; :mod:`forcelayout.initial` starts it turned to where it will hang.
+        self.wall_views = tuple(b for b in self.compiled.bindings
+                                if b.object in row and b.target in hung
+                                and b.rule.start is not None
+                                and b.rule.start.turn == "face_target")
+        #: Rows some binding of ``wall_views`` turns: those held at no wall keep the
+        #: heading they start with.
         self.turned_to_wall = np.zeros(n, dtype=bool)
-        for b in self.compiled.bindings:
-            if b.object in row and b.target in hung and b.rule.start is not None \
-                    and b.rule.start.turn == "face_target":
-                self.turned_to_wall[row[b.object]] = True
+        for b in self.wall_views:
+            self.turned_to_wall[row[b.object]] = True
         w_window = self.physical_weights.window
         self.terms: list[ForceTerm] = [
             self.rules,

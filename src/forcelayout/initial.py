@@ -197,19 +197,16 @@ def _wants(model: ForceModel) -> list[_Wants]:
             if hint.which is not None and getattr(g.params, hint.which)[b] >= 0:
                 w.picks[hint.place] = int(getattr(g.params, hint.which)[b])
     row = {oid: k for k, oid in enumerate(model.ids)}
-    hung = {b.object for b in model.compiled.on("wall")}
-    for b in model.compiled.bindings:  # floor objects turned towards a wall object
-        if b.object in row and b.target in hung and b.rule.start is not None \
-                and b.rule.start.turn == "face_target":
-            out[row[b.object]].views.add(b.target)
-            hangs = model.compiled.surface_of(b.target)
-            if hangs is not None and hangs.target is None:
-                w, _, h = model.plan.object(b.target).size
-                high = wall_band(hangs, model.plan.room.height)[1]
-                out[row[b.object]].sights.append(_Sight(
-                    b.target, hanging_centres(model.plan, hangs, None),
-                    float(getattr(b.params, "max_angle", 90.0)), float(w), high - float(h),
-                    float(getattr(b.params, "view_height", np.inf))))
+    for b in model.wall_views:  # floor objects turned towards a wall object
+        out[row[b.object]].views.add(b.target)
+        hangs = model.compiled.surface_of(b.target)
+        if hangs is not None and hangs.target is None:
+            w, _, h = model.plan.object(b.target).size
+            high = wall_band(hangs, model.plan.room.height)[1]
+            out[row[b.object]].sights.append(_Sight(
+                b.target, hanging_centres(model.plan, hangs, None),
+                float(getattr(b.params, "max_angle", 90.0)), float(w), high - float(h),
+                float(getattr(b.params, "view_height", np.inf))))
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
                 and b.target in row:
@@ -381,7 +378,6 @@ def _wall_candidates(
     """
     if near is not None:
         return _snap_to_wall(room, near, half)
-    own = weight
     left, right = (0.0, 0.0) if sides is None else (float(sides[0]), float(sides[1]))
     ok = room.length >= 2 * half[0] + left + right + 0.02
     end = half[0] + 0.01  # the centre's distance from either end of the wall
@@ -389,18 +385,15 @@ def _wall_candidates(
         end += min(left, right)
     else:  # no wall takes its children too: any wall that takes the object
         ok = room.length >= 2 * half[0] + 0.02
-    weight = np.where(ok, room.length, 0.0)
-    if weight.sum() <= 0:
-        weight = room.length.copy()
-    if own is not None:  # each sample's walls by its own weights
-        cdf = np.cumsum(own, axis=1)
-        cdf /= cdf[:, -1:]
-        walls = np.minimum((draws.random(k)[..., None] >= cdf[:, None, :]).sum(axis=2),
-                           len(room.length) - 1)
-    else:  # a wall drawn by its length
-        cdf = np.cumsum(weight / weight.sum())
-        cdf /= cdf[-1]
-        walls = np.minimum(cdf.searchsorted(draws.random(k), side="right"), len(cdf) - 1)
+    if weight is None:  # a wall drawn by its length
+        by_length = np.where(ok, room.length, 0.0)
+        if by_length.sum() <= 0:
+            by_length = room.length.copy()
+        weight = (by_length / by_length.sum())[None]
+    cdf = np.cumsum(weight, axis=1)  # (B or 1, W)
+    cdf /= cdf[:, -1:]
+    walls = np.minimum((draws.random(k)[..., None] >= cdf[:, None, :]).sum(axis=2),
+                       len(room.length) - 1)
     slack = np.maximum(room.length[walls] - 2 * end, 0.0)
     along = end + draws.random(k) * slack
     cand = room.a[walls] + room.tangent[walls] * along[..., None]
@@ -1400,8 +1393,11 @@ class _Placer:
                                                yaw, half, self.radius, spread)
             cand = np.concatenate([cand, more], axis=1)
             cyaw = np.concatenate([cyaw, more_yaw], axis=1)
-        if w.sights and not corner:  # turned to a wall object a placed object faces too
-            more, more_yaw = self._toward_spot(r, draws, tries // 2, placed, pos, yaw)
+        # where the wall object its first such rule turns it to will hang, for a placed
+        # object facing it too
+        spot = self._shared_spots(r, w.sights[0], placed, pos, yaw) if w.sights else None
+        if spot is not None and not corner:
+            more, more_yaw = self._toward_spot(r, draws, tries // 2, spot)
             cand = np.concatenate([cand, more], axis=1)
             cyaw = np.concatenate([cyaw, more_yaw], axis=1)
         # fall-backs after the proposals: anywhere at a wall for objects that
@@ -1419,22 +1415,23 @@ class _Placer:
             cyaw = geo.yaw_facing(geo.toward_nearest(cand, toward))
         elif w.views and not places & {"wall", "corner"} \
                 and not w.turns & {"face_target", "target_heading"}:
-            cyaw = self._toward_views(r, placed, pos, yaw, cand, cyaw)
+            cyaw = self._toward_views(r, placed, pos, yaw, cand, cyaw, spot)
         if tall_by_window:
             cand, cyaw = self._clear_of_windows(r, cand, cyaw, k0, tries)
         return cand, cyaw, loose
 
     def _toward_views(self, r: int, placed: Sequence[Sequence[int]], pos: np.ndarray,
-                      yaw: np.ndarray, cand: np.ndarray, cyaw: np.ndarray) -> np.ndarray:
-        """Headings (B, K) of row ``r``'s candidates (B, K, 2) turned towards where a wall
-        object it is turned to by a rule will hang for a placed object facing it too (the
-        first such one in its sample; :meth:`_shared_spots`), else where that object
-        looks: a beanbag turned to the wall at the foot of the bed, where the TV goes. A
-        sample with none such placed keeps its headings."""
+                      yaw: np.ndarray, cand: np.ndarray, cyaw: np.ndarray,
+                      spot: np.ndarray | None) -> np.ndarray:
+        """Headings (B, K) of row ``r``'s candidates (B, K, 2) turned towards ``spot``
+        (B, 2), where a wall object it is turned to by a rule will hang for a placed object
+        facing it too (the first such one in its sample; :meth:`_shared_spots`), else
+        where that object looks: a beanbag turned to the wall at the foot of the bed,
+        where the TV goes. A sample with none such placed keeps its headings."""
         w = self.wants[r]
         out = cyaw.copy()
-        spot = (self._shared_spots(r, w.sights[0], placed, pos, yaw) if w.sights
-                else np.full((len(placed), 2), np.nan))
+        if spot is None:
+            spot = np.full((len(placed), 2), np.nan)
         for b, rows in enumerate(placed):
             aim: np.ndarray | None = spot[b]
             if not np.isfinite(spot[b, 0]):
@@ -1446,17 +1443,17 @@ class _Placer:
                 out[b] = geo.yaw_facing(aim - cand[b])
         return out
 
-    def _toward_spot(self, r: int, draws: _Draws, k: int, placed: Sequence[Sequence[int]],
-                     pos: np.ndarray, yaw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _toward_spot(self, r: int, draws: _Draws, k: int, spot: np.ndarray
+                     ) -> tuple[np.ndarray, np.ndarray]:
         """``k`` candidate poses (B, k) of row ``r`` from where the wall object of its first
-        such rule can be seen, where a placed object faces it too (:meth:`_shared_spots`):
-        at a wall that looks towards that spot for an object that stands at a wall (the
-        second bed, backed against the wall across from the TV), else in front of the spot
-        within the rule's angle, 1-3 m off, turned to it. A sample with no such spot draws
+        such rule can be seen, at ``spot`` (B, 2) where a placed object faces it too
+        (:meth:`_shared_spots`; NaN where none does): at a wall that looks towards that
+        spot for an object that stands at a wall (the second bed, backed against the wall
+        across from the TV), else in front of the spot within the rule's angle, 1-3 m off,
+        turned to it. A sample with no such spot draws
         at any wall, or anywhere, instead (every sample draws as many numbers)."""
         room, half = self.room, self.half[r]
         sight = self.wants[r].sights[0]
-        spot = self._shared_spots(r, sight, placed, pos, yaw)  # (B, 2)
         found = np.isfinite(spot[:, 0])
         at = np.where(found[:, None], spot, room.centroid)
         if "wall" in self.wants[r].places:
@@ -1689,6 +1686,7 @@ class _Placer:
         corners = self._footprints(rows, pos, yaw)  # (C, M, 4, 2)
         tops = h[rows]
         c, f, rg = cand[:, 0], fwd[:, 0], rgt[:, 0]
+        mine = geo.corners_from_axes(c, rg, f, np.tile(self.half[r], (n, 1)))[:, None]
         for p in viewers if not self.walkable[r] else []:
             k = solid.index(p)
             counts = seen.copy()
@@ -1701,9 +1699,8 @@ class _Placer:
                 spot = _sight_spot(room, sight, at, front, corners, tops, counts)
                 had = seen[:, k] & np.isfinite(spot[:, 0])
                 if hides:
-                    mine = geo.corners_from_axes(c, rg, f, np.tile(self.half[r], (n, 1)))
                     after = _sight_spot(room, sight, at, front,
-                                        np.concatenate([corners, mine[:, None]], axis=1),
+                                        np.concatenate([corners, mine], axis=1),
                                         np.append(tops, h[r]),
                                         np.concatenate([counts, np.ones((n, 1), bool)], 1))
                     gone = np.isnan(after[:, 0])
@@ -1712,6 +1709,7 @@ class _Placer:
                 if in_view:
                     out += had & _across(at, np.where(had[:, None], spot, at), c[:, None],
                                          rg[:, None], f[:, None], self.half[r][None])[:, 0]
+        right, front_rows = geo.right_vectors(yaw[:, rows]), geo.front_vectors(yaw[:, rows])
         for sight in w.sights:
             spot = self._shared_spots(r, sight, placed, pos, yaw)
             own = np.isnan(spot[:, 0])  # none placed facing it (or no spot for it there)
@@ -1722,9 +1720,8 @@ class _Placer:
             d = np.where(found[:, None], spot - c, f)
             off = np.abs(np.arctan2(f[:, 0] * d[:, 1] - f[:, 1] * d[:, 0], (f * d).sum(1)))
             tall = seen & (tops[None] > sight.view_height)
-            blocked = (_across(c, np.where(found[:, None], spot, c), pos[:, rows],
-                               geo.right_vectors(yaw[:, rows]), geo.front_vectors(yaw[:, rows]),
-                               self.half[rows]) & tall).any(axis=1)
+            blocked = (_across(c, np.where(found[:, None], spot, c), pos[:, rows], right,
+                               front_rows, self.half[rows]) & tall).any(axis=1)
             # its front no nearer the wall object than a viewer sits (an armchair with its
             # knees at the TV's wall; a treadmill's console under the TV, in the view of
             # the others facing it)

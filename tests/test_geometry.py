@@ -241,3 +241,16 @@ def test_facing_point_is_the_nearest_point_of_the_rectangle_or_its_centre(b, px,
     # a batch broadcasts: the same point for every row
     many = facing_point(np.tile(p, (3, 1)), np.array([x, y]), rgt, fwd, half)
     np.testing.assert_allclose(many, np.tile(aim, (3, 1)))
+
+
+def test_rays_to_walls_meet_the_first_wall_in_front():
+    from forcelayout.geometry import RoomGeometry, rays_to_walls
+
+    room = RoomGeometry([(0, 0), (4, 0), (4, 3), (0, 3)])
+    points = np.array([[1.0, 1.0], [1.0, 1.0], [5.0, 1.0]])
+    directions = np.array([[1.0, 0.0], [0.0, -1.0], [1.0, 0.0]])
+    wall, along, dist = rays_to_walls(room, points, directions)
+    assert wall.tolist() == [1, 0, -1]  # the right wall, the bottom wall, none (outside)
+    assert np.allclose(dist[:2], [3.0, 1.0]) and np.isinf(dist[2])
+    hit = room.a[wall[:2]] + room.tangent[wall[:2]] * along[:2, None]
+    assert np.allclose(hit, [[4.0, 1.0], [1.0, 0.0]])

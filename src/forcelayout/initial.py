@@ -33,6 +33,7 @@ from forcelayout.surfaces.walls import (
     REACH,
     back_wall,
     hanging_centres,
+    target_clearance,
     target_middle,
     target_stand,
     wall_band,
@@ -78,6 +79,9 @@ class _Wants:
     # from that wall (surfaces.walls.target_stand), and the share of its extent, about its
     # middle, the centre goes over (surfaces.walls.target_middle)
     hanging: list[tuple[np.ndarray, tuple[float, float], float]] = field(default_factory=list)
+    # how high on its wall it and the objects hanging above it reach at the least (a
+    # dresser 0.8 m tall with a mirror above it hides the wall to about 1.8 m), metres
+    wall_top: float = 0.0
     reach: float = 0.0  # how far from its start place its rules let it be (0: unsaid)
     # the one window or door a rule picks, by kind ("window", "door") -> index in the room's
     picks: dict[str, int] = field(default_factory=dict)
@@ -207,17 +211,22 @@ def _wants(model: ForceModel) -> list[_Wants]:
                 b.target, hanging_centres(model.plan, hangs, None),
                 float(getattr(b.params, "max_angle", 90.0)), float(w), high - float(h),
                 float(getattr(b.params, "view_height", np.inf))))
+    for r, h in enumerate(model.size[:, 2].tolist()):
+        out[r].wall_top = float(h)
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
                 and b.target in row:
+            w = out[row[b.target]]
             top = float(model.plan.object(b.target).size[2])
-            out[row[b.target]].hanging.append((hanging_centres(model.plan, b, top),
-                                               target_stand(b), target_middle(b)))
+            w.hanging.append((hanging_centres(model.plan, b, top), target_stand(b),
+                              target_middle(b)))
+            w.wall_top = max(w.wall_top, top + target_clearance(b)
+                             + float(model.plan.object(b.object).size[2]))
     return out
 
 
 def _side_room(model: ForceModel, parent: np.ndarray, wants: list[_Wants]
-               ) -> tuple[np.ndarray, np.ndarray]:
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Wall length to keep free on each side of a parent for the children standing beside it.
 
     A child that stands at the wall to the ``left`` or ``right`` of its parent
@@ -235,9 +244,13 @@ def _side_room(model: ForceModel, parent: np.ndarray, wants: list[_Wants]
         How many children stand on each side.
     either : ndarray of bool, shape (N,)
         Whether the sides may be swapped (some child may stand on either side).
+    depth : ndarray, shape (N,)
+        How deep the deepest of those children is, metres: they stand with their backs
+        level with the parent's, so that much of its depth is kept free beside it.
     """
     n = model.n
     sides = np.zeros((n, 2))
+    depth = np.zeros(n)
     count = np.zeros((n, 2))
     either = np.zeros(n, dtype=bool)
     free: dict[int, list[int]] = {}
@@ -246,6 +259,7 @@ def _side_room(model: ForceModel, parent: np.ndarray, wants: list[_Wants]
         if q < 0 or "wall" not in places or not places & _SIDE_PLACES:
             continue
         need = float(model.size[c, 0]) + _BESIDE
+        depth[q] = max(depth[q], float(model.size[c, 1]))
         if "left" in places:
             sides[q, 0] += need
             count[q, 0] += 1
@@ -260,7 +274,7 @@ def _side_room(model: ForceModel, parent: np.ndarray, wants: list[_Wants]
             k = int(sides[q, 1] < sides[q, 0])
             sides[q, k] += float(model.size[c, 0]) + _BESIDE
             count[q, k] += 1
-    return sides, count, either
+    return sides, count, either, np.minimum(depth, model.size[:, 1])
 
 
 def _ray_to_walls(room, p: np.ndarray, yaw: float) -> np.ndarray | None:
@@ -1139,13 +1153,15 @@ class _Placer:
         self.radius = np.hypot(half[:, 0], half[:, 1])
         self.parent = parent = parents(model)
         self.wants = wants = _wants(model)
+        self.wall_top = np.array([w.wall_top for w in wants])
         self.walkable = model.walkable
         self.by_object = _bindings_of(model)
         self.window = next((t for t in model.terms if isinstance(t, WindowTerm)), None)
         self.access = next((t for t in model.terms if isinstance(t, AccessTerm)), None)
         self.viewers = [r for r in range(n) if wants[r].sights]
         self.order = _order(parent, model.size[:, 0] * model.size[:, 1], model.walkable)
-        self.sides, self.side_count, self.either = _side_room(model, parent, wants)
+        self.sides, self.side_count, self.either, self.side_depth = _side_room(model, parent,
+                                                                               wants)
         # the rows a side-by-side binding ties to each row, either way round, other than
         # its parent: where it may also stand beside one that is placed
         self.side_others: list[list[int]] = [[] for _ in range(n)]
@@ -1177,6 +1193,13 @@ class _Placer:
                                        model.size[c, 1] + _GAP[0] + behind[c])
                 seat[parent[c]] = max(seat[parent[c]], model.size[c, 0] + 0.1)
                 n_around[parent[c]] += 1
+        # children standing in front of a parent, turned to it, that face a wall object
+        # too (an office chair at the desk facing the whiteboard): (child, sight) per parent
+        self.front_sights: list[list[tuple[int, _Sight]]] = [[] for _ in range(n)]
+        for c in range(n):
+            if parent[c] >= 0 and "front" in wants[c].places \
+                    and "face_target" in wants[c].turns:
+                self.front_sights[parent[c]] += [(c, sight) for sight in wants[c].sights]
         self.front_margin, self.around_margin = front, around
         self.zoned_margin = np.where(zoned > around, zoned, 0.0)
         self.seat = seat
@@ -1507,7 +1530,7 @@ class _Placer:
             rows = np.array(solid, dtype=int)
             out[bs] = _sight_spot(self.room, own, pos[bs, q], geo.front_vectors(yaw[bs, q]),
                                   self._footprints(rows, pos[bs], yaw[bs]),
-                                  self.model.size[rows, 2], counts)
+                                  self.wall_top[rows], counts)
         return out
 
     def _footprints(self, rows: np.ndarray, pos: np.ndarray, yaw: np.ndarray) -> np.ndarray:
@@ -1613,11 +1636,14 @@ class _Placer:
             left, right = sides
             nl, nr = self.side_count[r]
 
-            def side(metres: float, sign: float) -> np.ndarray:  # room on one side
+            deep = self.side_depth[r]
+
+            def side(metres: float, sign: float) -> np.ndarray:  # room on one side, as
+                # deep as the children standing there with their backs level with its back
                 if metres <= 0:
                     return np.ones(n, dtype=bool)
-                return roomy(cand + rgt * (0.5 * sign * metres),
-                             half[r] + np.array([0.5 * metres, 0.0]))
+                return roomy(cand + rgt * (0.5 * sign * metres) - fwd * (half[r, 1] - 0.5 * deep),
+                             np.array([half[r, 0] + 0.5 * metres, 0.5 * deep]))
 
             cramped = nl * ~side(left, -1.0) + nr * ~side(right, 1.0)
             if self.either[r] and (left, nl) != (right, nr):  # or the other way round
@@ -1649,6 +1675,8 @@ class _Placer:
                              rgt.reshape(-1, 2), half[r])
         unmet += self._sight_misses(r, cand, rgt, fwd, solid, pos, yaw, present,
                                     [placed[b] for b in sb])
+        if self.front_sights[r]:
+            unmet += self._front_sight_misses(r, cand, rgt, fwd, solid, pos, yaw, present)
         unmet += _unmet_rules(model, self.by_object[r], r, cand, cyaw, pos, yaw,
                               [placed[b] for b in sb])[:, 0]
         access = self._access_misses(r, cand, rgt, fwd, solid, pos, yaw, present)[:, 0] + zoned
@@ -1684,7 +1712,7 @@ class _Placer:
         m = len(rows)
         seen = np.ones((n, m), dtype=bool) if present is None else present
         corners = self._footprints(rows, pos, yaw)  # (C, M, 4, 2)
-        tops = h[rows]
+        tops = self.wall_top[rows]  # what hangs above an object hides the wall too
         c, f, rg = cand[:, 0], fwd[:, 0], rgt[:, 0]
         mine = geo.corners_from_axes(c, rg, f, np.tile(self.half[r], (n, 1)))[:, None]
         for p in viewers if not self.walkable[r] else []:
@@ -1693,7 +1721,7 @@ class _Placer:
             counts[:, k] = False  # not in its own way
             at, front = pos[:, p], geo.front_vectors(yaw[:, p])
             for sight in self.wants[p].sights:
-                hides, in_view = h[r] > sight.top, h[r] > sight.view_height
+                hides, in_view = self.wall_top[r] > sight.top, h[r] > sight.view_height
                 if not (hides or in_view):
                     continue
                 spot = _sight_spot(room, sight, at, front, corners, tops, counts)
@@ -1701,7 +1729,7 @@ class _Placer:
                 if hides:
                     after = _sight_spot(room, sight, at, front,
                                         np.concatenate([corners, mine], axis=1),
-                                        np.append(tops, h[r]),
+                                        np.append(tops, self.wall_top[r]),
                                         np.concatenate([counts, np.ones((n, 1), bool)], 1))
                     gone = np.isnan(after[:, 0])
                     moved = ~gone & (np.abs(after - spot).max(axis=1) > 0.05)
@@ -1719,7 +1747,7 @@ class _Placer:
             found = np.isfinite(spot[:, 0])
             d = np.where(found[:, None], spot - c, f)
             off = np.abs(np.arctan2(f[:, 0] * d[:, 1] - f[:, 1] * d[:, 0], (f * d).sum(1)))
-            tall = seen & (tops[None] > sight.view_height)
+            tall = seen & (h[rows][None] > sight.view_height)
             blocked = (_across(c, np.where(found[:, None], spot, c), pos[:, rows], right,
                                front_rows, self.half[rows]) & tall).any(axis=1)
             # its front no nearer the wall object than a viewer sits (an armchair with its
@@ -1727,6 +1755,30 @@ class _Placer:
             # the others facing it)
             close = np.hypot(d[:, 0], d[:, 1]) < self.half[r, 1] + _VIEWING
             out += ~found | (off > np.radians(sight.angle)) | blocked | (found & close)
+        return out
+
+    def _front_sight_misses(self, r: int, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray,
+                            solid: list[int], pos: np.ndarray, yaw: np.ndarray,
+                            present: np.ndarray | None) -> np.ndarray:
+        """The rules towards wall objects that the children in front of row ``r``, turned
+        to it, would miss for each candidate (C, 1, 2) of it, each in its own sample's room
+        (poses (C, N, 2), (C, N); the ``solid`` rows standing where ``present`` (C, S)
+        says), shape (C,): those left no spot for the wall object where they look, over
+        the candidate (an office chair at a desk under the window, facing the whiteboard
+        that cannot hang there)."""
+        n = len(cand)
+        rows = np.array(solid, dtype=int)
+        seen = np.ones((n, len(rows)), dtype=bool) if present is None else present
+        c, f, rg = cand[:, 0], fwd[:, 0], rgt[:, 0]
+        mine = geo.corners_from_axes(c, rg, f, np.tile(self.half[r], (n, 1)))[:, None]
+        corners = np.concatenate([self._footprints(rows, pos, yaw), mine], axis=1)
+        tops = np.append(self.wall_top[rows], self.wall_top[r])
+        counts = np.concatenate([seen, np.ones((n, 1), dtype=bool)], axis=1)
+        out = np.zeros(n)
+        for k, sight in self.front_sights[r]:
+            at = c + f * (self.half[r, 1] + _GAP[1] + self.half[k, 1])
+            spot = _sight_spot(self.room, sight, at, -f, corners, tops, counts)
+            out += np.isnan(spot[:, 0])
         return out
 
     def _in_window_zone(self, r: int, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray

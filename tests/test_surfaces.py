@@ -626,3 +626,54 @@ def test_a_floor_leaving_a_wall_object_nowhere_to_hang_fails_its_verdict():
     assert any(f.startswith("walls:") and "'mirror'" in f for f in every.failures)
     assert every.at_fault == {0, 1, 2, 3}
     assert not any(f.startswith("walls:") for f in lined(3).failures)
+
+
+def _tv_room(objects: list[dict], rules: list[dict]) -> fl.Plan:
+    """A 3.2 x 3.4 m bedroom with a TV on the wall and the given floor objects."""
+    return fl.Plan.from_dict({
+        "name": "tv room",
+        "room": {"polygon": [[0, 0], [3.2, 0], [3.2, 3.4], [0, 3.4]], "height": 2.6,
+                 "doors": [{"wall": 0, "offset": 0.5, "width": 0.8}]},
+        "objects": [*objects, {"id": "tv", "category": "tv", "size": [1.0, 0.06, 0.6]}],
+        "rules": [{"rule": "on_wall_mid", "object": "tv"}, *rules]})
+
+
+def test_unseen_names_a_view_whose_wall_is_taken_where_the_object_looks():
+    """A bed against the top wall faces the bottom wall, where its TV is to hang: a
+    dresser there leaves the TV room beside it within the bed's angle, the dresser with a
+    mirror above it (hiding the wall to about 1.8 m) none, and the dresser is named."""
+    from forcelayout.bindings import compile_plan
+    from forcelayout.surfaces.walls import unseen
+
+    bed = {"id": "bed", "category": "bed", "size": [1.6, 2.0, 0.5]}
+    dresser = {"id": "dresser", "category": "dresser", "size": [1.4, 0.45, 0.8]}
+    mirror = {"id": "mirror", "category": "mirror", "size": [0.7, 0.03, 0.9]}
+    facing = {"rule": "facing", "object": "bed", "target": "tv"}
+    pos = np.array([[[1.6, 2.4], [1.9, 0.25]]])  # the bed's foot looks at the dresser
+    yaw = np.array([[np.pi, 0.0]])
+    ids = ["bed", "dresser"]
+    plain = compile_plan(_tv_room([bed, dresser], [facing]))
+    assert unseen(plain, ids, pos, yaw) == [[]]
+    hung = compile_plan(_tv_room([bed, dresser, mirror], [
+        facing, {"rule": "above", "object": "mirror", "target": "dresser"}]))
+    [[(binding, near)]] = unseen(hung, ids, pos, yaw)
+    assert (binding.object, binding.target, near) == ("bed", "tv", ["dresser"])
+    # turned to the side wall, the bed looks at a free wall
+    assert unseen(hung, ids, pos, np.array([[np.pi / 2, 0.0]])) == [[]]
+
+
+def test_unseen_names_the_second_of_two_objects_facing_one_wall_object_from_apart():
+    """Two beds facing one TV: its one spot meets both where they look at one stretch of
+    wall, the first bed's alone where they look at different walls."""
+    from forcelayout.bindings import compile_plan
+    from forcelayout.surfaces.walls import unseen
+
+    beds = [{"id": f"bed_{k}", "category": "bed", "size": [0.9, 1.9, 0.45]} for k in (1, 2)]
+    cp = compile_plan(_tv_room(beds, [{"rule": "facing", "object": f"bed_{k}", "target": "tv"}
+                                      for k in (1, 2)]))
+    ids = ["bed_1", "bed_2"]
+    side_by_side = np.array([[[1.0, 2.4], [2.2, 2.4]]])
+    assert unseen(cp, ids, side_by_side, np.array([[np.pi, np.pi]])) == [[]]
+    apart = np.array([[[1.0, 2.4], [2.4, 0.9]]])  # the second looks at the right wall
+    [[(binding, near)]] = unseen(cp, ids, apart, np.array([[np.pi, -np.pi / 2]]))
+    assert (binding.object, near) == ("bed_2", [])

@@ -18,7 +18,7 @@ from forcelayout.forces import ForceModel
 from forcelayout.layout import Layout, Pose
 from forcelayout.rules.base import State
 from forcelayout.rules.physical import wall_gaps
-from forcelayout.surfaces.walls import unhung
+from forcelayout.surfaces.walls import unhung, unseen
 from forcelayout.validate.checks import check_floors
 
 __all__ = ["FloorVerdict", "JudgeRequest", "judge_floor", "judge_floors", "allowed_misses"]
@@ -194,6 +194,20 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
                                           "(doors, windows and the furniture by the walls "
                                           "block it)")
                         v.at_fault.update(row[n] for n in near)
+        # the rules turning a floor object towards a wall object that its spot leaves
+        # unmet, on every floor that passes every check, its start too (a dresser with its
+        # mirror on the wall the bed looks at for its TV; two beds facing one TV from
+        # different walls)
+        clean = [b for b, report in enumerate(reports) if not report.failures]
+        if clean:
+            for b, missing in zip(clean, unseen(model.compiled, list(model.ids), pos[clean],
+                                                yaw[clean]), strict=True):
+                v = out[b]
+                for view, near in missing:
+                    v.failures.append(str(view))
+                    v.missed.add(-1 - view.index)
+                    # the objects in the way there, else the one it leaves unmet
+                    v.at_fault.update([row[n] for n in near] or [row[view.object]])
         radius = float((check_kwargs or {}).get("agent_radius", 0.2))
         band = bool((check_kwargs or {}).get("wall_band", False))
         short = []  # the floors with too little free floor

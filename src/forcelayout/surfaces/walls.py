@@ -33,7 +33,7 @@ from forcelayout.surfaces.plane import (
 
 __all__ = ["EYE_LEVEL", "REACH", "MARGIN", "wall_pose", "wall_band", "binding_walls",
            "free_wall_stretches", "hanging_centres", "back_wall", "place_on_walls", "unhung",
-           "Unhung"]
+           "Unhung", "unseen", "Unseen"]
 
 #: Eye level, metres: wall objects settle with their centre near this height.
 EYE_LEVEL = 1.6
@@ -557,6 +557,106 @@ def unhung(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
                                                         wall_band(b, plan.room.height)[1])
                 out[k].append(Unhung(b, near, higher))
     return out
+
+
+def unseen(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
+           reach: float = REACH) -> list[list[Unseen]]:
+    """The rules turning floor objects towards a wall object that its one spot cannot meet,
+    for floor arrangements (a bed ``facing`` the TV on the wall, a dresser with a mirror
+    above it on the stretch of wall the bed looks at; two beds facing one TV from
+    different walls).
+
+    The wall object hangs after the floor settles: such a rule is met only where it
+    finds a free stretch within the rule's ``max_angle`` of the floor object's front, on
+    the wall that front meets, and one spot serves every object turned to it. Judged as
+    :func:`unhung` judges a first spot, with what hangs above a floor object (``above``)
+    over that object too, up to the lowest it hangs: of the spots meeting the most of
+    those rules (the first object's where they tie), the rules it leaves unmet.
+
+    Parameters
+    ----------
+    cp : CompiledPlan
+    ids : list of str
+        The floor objects (rows of ``pos``).
+    pos : ndarray, shape (B, N, 2)
+    yaw : ndarray, shape (B, N)
+        B floor arrangements.
+    reach : float
+        As for :func:`place_on_walls`.
+
+    Returns
+    -------
+    list of list of Unseen
+        Per arrangement, each such rule left unmet.
+    """
+    out: list[list[Unseen]] = [[] for _ in range(len(pos))]
+    row = {oid: k for k, oid in enumerate(ids)}
+    views: dict[str, list[Binding]] = {}  # per wall object, the bindings turning to it
+    for b in cp.bindings:
+        hangs = cp.surface_of(b.target) if b.target is not None else None
+        if b.object in row and hangs is not None and hangs.rule.surface == "wall" \
+                and hangs.target is None and b.rule.start is not None \
+                and b.rule.start.turn == "face_target":
+            views.setdefault(b.target, []).append(b)
+    if not views:
+        return out
+    room, plan = cp.room, cp.plan
+    size = cp.size(ids)
+    tops = size[:, 2].copy()
+    for b in cp.on("wall"):  # what hangs above a floor object hides the wall to its top
+        if b.target in row:
+            t = row[b.target]
+            tops[t] = max(tops[t], float(size[t, 2]) + target_clearance(b)
+                          + float(cp.size([b.object])[0, 2]))
+    for k in range(len(pos)):
+        corners = box_corners(pos[k], yaw[k], size[:, :2] * 0.5)
+        blocks: dict[int, list[Block]] = {}
+        for target, bindings in views.items():
+            hangs = cp.surface_of(target)
+            w, _, h = cp.size([target])[0]
+            low, high = wall_band(hangs, plan.room.height)
+            rows = [row[b.object] for b in bindings]
+            wall, u, dist = rays_to_walls(room, pos[k, rows], front_vectors(yaw[k, rows]))
+            cone = dist * np.tan(np.radians(np.minimum(
+                [float(getattr(b.params, "max_angle", 90.0)) for b in bindings], 89.0)))
+            spans = np.stack([u - cone, u + cone], axis=1)  # where each wants its centre
+            best: set[int] = set()
+            for wl in dict.fromkeys(int(x) for x in wall if x >= 0):
+                if wl not in blocks:
+                    blocks[wl] = opening_blocks(plan, wl) + _object_blocks(room, wl, corners,
+                                                                           tops, reach)
+                free = [rg for v in _heights(blocks[wl], h, low, high)
+                        for rg in _centres(float(room.length[wl]), blocks[wl], w, h, v, None)]
+                mine = np.flatnonzero(wall == wl)
+                for a, c in free:  # the free centres that meet the most of the rules here
+                    points = np.clip(np.concatenate([spans[mine].ravel(), [a, c]]), a, c)
+                    inside = ((spans[mine, 0][None] <= points[:, None] + 1e-9)
+                              & (points[:, None] <= spans[mine, 1][None] + 1e-9))
+                    met = {int(mine[j]) for j in np.flatnonzero(
+                        inside[int(np.argmax(inside.sum(axis=1)))])}
+                    if (len(met), 0 in met) > (len(best), 0 in best):
+                        best = met
+            for j, b in enumerate(bindings):
+                if j in best:
+                    continue
+                wl = int(wall[j])
+                near = [] if wl < 0 else [
+                    ids[q] for q in range(len(ids)) if q != rows[j]
+                    for u0, u1, _, top in _object_blocks(room, wl, corners[q:q + 1],
+                                                         tops[q:q + 1], reach)
+                    if top > low and u0 < spans[j, 1] + w / 2 and u1 > spans[j, 0] - w / 2]
+                out[k].append(Unseen(b, near))
+    return out
+
+
+class Unseen(NamedTuple):
+    """A rule turning a floor object towards a wall object that the wall object's spot
+    leaves unmet on a floor arrangement (:func:`unseen`): its binding, and the other
+    floor objects by the wall the floor object looks at that reach into the wall
+    object's band within the rule's angle."""
+
+    binding: Binding
+    near: list[str]
 
 
 def _fits(room: RoomGeometry, blocks: dict[int, list[Block]], walls: list[int],

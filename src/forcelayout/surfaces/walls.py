@@ -573,16 +573,7 @@ def unseen(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
     over that object too, up to the lowest it hangs: of the spots meeting the most of
     those rules (the first object's where they tie), the rules it leaves unmet.
 
-    Parameters
-    ----------
-    cp : CompiledPlan
-    ids : list of str
-        The floor objects (rows of ``pos``).
-    pos : ndarray, shape (B, N, 2)
-    yaw : ndarray, shape (B, N)
-        B floor arrangements.
-    reach : float
-        As for :func:`place_on_walls`.
+    Parameters are as for :func:`unhung`.
 
     Returns
     -------

@@ -393,7 +393,7 @@ def test_validate_says_a_tight_plan_is_tight(tmp_path, capsys):
         "rules": [{"rule": "at_wall", "object": "bed"}]}))
     assert main(["validate", str(plan)]) == 0
     captured = capsys.readouterr()
-    assert "tight (see the warnings)" in captured.out
+    assert "tight (see the warnings below)" in captured.out
     assert captured.err.startswith("warning: ")
 
 

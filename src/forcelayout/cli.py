@@ -89,7 +89,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
         feas = feasibility(plan)
         print(f"plan {plan.name!r} is valid: {len(plan.objects)} objects, {len(plan.rules)} rules"
               + ("; but no layout can meet it" if not feas.ok
-                 else "; tight (see the warnings)"
+                 else "; tight (see the warnings below)"
                  if feas.verdict == "tight" else ""), flush=True)  # before the warnings
         for k, note in enumerate(feas.notes):
             print(f"{'infeasible' if k < feas.blocking else 'warning'}: {note}",

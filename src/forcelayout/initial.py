@@ -33,7 +33,7 @@ from forcelayout.surfaces.walls import (
     REACH,
     back_wall,
     hanging_centres,
-    target_clearance,
+    hidden_heights,
     target_middle,
     target_stand,
     wall_band,
@@ -211,17 +211,16 @@ def _wants(model: ForceModel) -> list[_Wants]:
                 b.target, hanging_centres(model.plan, hangs, None),
                 float(getattr(b.params, "max_angle", 90.0)), float(w), high - float(h),
                 float(getattr(b.params, "view_height", np.inf))))
-    for r, h in enumerate(model.size[:, 2].tolist()):
-        out[r].wall_top = float(h)
+    floor = model.compiled.floor_ids  # rows not of the plan (an area) hide their height
+    hidden = dict(zip(floor, hidden_heights(model.compiled, floor).tolist(), strict=True))
+    for r, (oid, h) in enumerate(zip(model.ids, model.size[:, 2].tolist(), strict=True)):
+        out[r].wall_top = max(h, hidden.get(oid, h))
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
                 and b.target in row:
-            w = out[row[b.target]]
             top = float(model.plan.object(b.target).size[2])
-            w.hanging.append((hanging_centres(model.plan, b, top), target_stand(b),
-                              target_middle(b)))
-            w.wall_top = max(w.wall_top, top + target_clearance(b)
-                             + float(model.plan.object(b.object).size[2]))
+            out[row[b.target]].hanging.append((hanging_centres(model.plan, b, top),
+                                               target_stand(b), target_middle(b)))
     return out
 
 

@@ -12,6 +12,7 @@ such as ``above``) starts over the target's centre and is pulled there too.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import NamedTuple
 
 import numpy as np
@@ -32,8 +33,8 @@ from forcelayout.surfaces.plane import (
 )
 
 __all__ = ["EYE_LEVEL", "REACH", "MARGIN", "wall_pose", "wall_band", "binding_walls",
-           "free_wall_stretches", "hanging_centres", "back_wall", "place_on_walls", "unhung",
-           "Unhung", "unseen", "Unseen"]
+           "free_wall_stretches", "hanging_centres", "hidden_heights", "back_wall",
+           "place_on_walls", "unhung", "Unhung", "unseen", "Unseen"]
 
 #: Eye level, metres: wall objects settle with their centre near this height.
 EYE_LEVEL = 1.6
@@ -559,6 +560,22 @@ def unhung(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
     return out
 
 
+def hidden_heights(cp: CompiledPlan, ids: Sequence[str]) -> np.ndarray:
+    """How high on its wall each floor object of ``ids`` hides the wall, metres, shape
+    (K,): its height, or where something hangs on the wall above it (``above``), the top
+    of that object at the lowest it hangs (a dresser 0.8 m tall with a 0.9 m mirror 0.1 m
+    above it: 1.8 m)."""
+    row = {oid: k for k, oid in enumerate(ids)}
+    size = cp.size(ids)
+    out = size[:, 2].copy()
+    for b in cp.on("wall"):
+        if b.target in row:
+            t = row[b.target]
+            out[t] = max(out[t], float(size[t, 2]) + target_clearance(b)
+                         + float(cp.size([b.object])[0, 2]))
+    return out
+
+
 def unseen(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
            reach: float = REACH) -> list[list[Unseen]]:
     """The rules turning floor objects towards a wall object that its one spot cannot meet,
@@ -593,12 +610,7 @@ def unseen(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
         return out
     room, plan = cp.room, cp.plan
     size = cp.size(ids)
-    tops = size[:, 2].copy()
-    for b in cp.on("wall"):  # what hangs above a floor object hides the wall to its top
-        if b.target in row:
-            t = row[b.target]
-            tops[t] = max(tops[t], float(size[t, 2]) + target_clearance(b)
-                          + float(cp.size([b.object])[0, 2]))
+    tops = hidden_heights(cp, ids)
     for k in range(len(pos)):
         corners = box_corners(pos[k], yaw[k], size[:, :2] * 0.5)
         blocks: dict[int, list[Block]] = {}

@@ -622,7 +622,9 @@ def unseen(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
             wall, u, dist = rays_to_walls(room, pos[k, rows], front_vectors(yaw[k, rows]))
             cone = dist * np.tan(np.radians(np.minimum(
                 [float(getattr(b.params, "max_angle", 90.0)) for b in bindings], 89.0)))
-            spans = np.stack([u - cone, u + cone], axis=1)  # where each wants its centre
+            # where each lets its centre be: the rules judge the nearest point of the wall
+            # object's footprint, up to half its width from its centre
+            spans = np.stack([u - cone - w / 2, u + cone + w / 2], axis=1)
             best: set[int] = set()
             for wl in dict.fromkeys(int(x) for x in wall if x >= 0):
                 if wl not in blocks:

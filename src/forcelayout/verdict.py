@@ -206,8 +206,10 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
                 for view, near in missing:
                     v.failures.append(str(view))
                     v.missed.add(-1 - view.index)
-                    # the objects in the way there, else the one it leaves unmet
-                    v.at_fault.update([row[n] for n in near] or [row[view.object]])
+                    # the objects in the way there, else every object turned to that wall
+                    # object (moving the second bed alone set it beside the first, each time)
+                    v.at_fault.update([row[n] for n in near] or [
+                        row[o.object] for o in model.wall_views if o.target == view.target])
         radius = float((check_kwargs or {}).get("agent_radius", 0.2))
         band = bool((check_kwargs or {}).get("wall_band", False))
         short = []  # the floors with too little free floor

@@ -584,8 +584,9 @@ def unseen(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
     different walls).
 
     The wall object hangs after the floor settles: such a rule is met only where it
-    finds a free stretch within the rule's ``max_angle`` of the floor object's front, on
-    the wall that front meets, and one spot serves every object turned to it. Judged as
+    finds a free stretch on the wall the floor object's front meets, its centre within
+    the rule's ``max_angle`` of that front or half its width beyond (the rule judges the
+    nearest point of its footprint), and one spot serves every object turned to it. Judged as
     :func:`unhung` judges a first spot, with what hangs above a floor object (``above``)
     over that object too, up to the lowest it hangs: of the spots meeting the most of
     those rules (the first object's where they tie), the rules it leaves unmet.

@@ -868,7 +868,7 @@ def test_two_beds_face_one_wall_tv_in_every_layout_of_a_kids_room():
     """A new user's kids' room (held out): two single beds facing one TV on the wall. The
     TV's one spot serves both only where they look at one stretch of wall; a floor, its
     start too, whose second bed looks elsewhere is judged as missing that bed's rule, and
-    the bed is drawn again (52 of these 60 samples met every rule before, 60 after)."""
+    both beds are drawn again (52 of these 60 samples met every rule before, 60 after)."""
     from pathlib import Path
 
     plan = fl.load_plan(Path(__file__).parents[1] / "benchmarks" / "plans_heldout"

@@ -677,3 +677,24 @@ def test_unseen_names_the_second_of_two_objects_facing_one_wall_object_from_apar
     apart = np.array([[[1.0, 2.4], [2.4, 0.9]]])  # the second looks at the right wall
     [[(binding, near)]] = unseen(cp, ids, apart, np.array([[np.pi, -np.pi / 2]]))
     assert (binding.object, near) == ("bed_2", [])
+
+
+def test_hidden_heights_count_what_hangs_above_a_floor_object():
+    """A dresser 0.8 m tall hides its wall to 0.8 m; with a 0.9 m mirror ``above`` it
+    (0.1 m clearance by default) to 1.8 m. The bed facing the TV is the plan's one wall
+    view; the mirror, hung above the dresser, is no view."""
+    from forcelayout.bindings import compile_plan
+    from forcelayout.surfaces.walls import hidden_heights
+
+    bed = {"id": "bed", "category": "bed", "size": [1.6, 2.0, 0.5]}
+    dresser = {"id": "dresser", "category": "dresser", "size": [1.4, 0.45, 0.8]}
+    mirror = {"id": "mirror", "category": "mirror", "size": [0.7, 0.03, 0.9]}
+    facing = {"rule": "facing", "object": "bed", "target": "tv"}
+    plain = compile_plan(_tv_room([bed, dresser], [facing]))
+    assert hidden_heights(plain, ["bed", "dresser"]).tolist() == pytest.approx([0.5, 0.8])
+    hung = compile_plan(_tv_room([bed, dresser, mirror], [
+        facing, {"rule": "above", "object": "mirror", "target": "dresser"}]))
+    assert hidden_heights(hung, ["bed", "dresser"]).tolist() == pytest.approx([0.5, 1.8])
+    assert [(b.object, b.target) for b in hung.wall_views(["bed", "dresser"])] == [
+        ("bed", "tv")]
+    assert hung.wall_views(["dresser"]) == ()

@@ -236,6 +236,18 @@ class CompiledPlan:
         """Objects that stand on the floor, in plan order."""
         return tuple(i for i in self.ids if i not in self._surface)
 
+    def wall_views(self, ids: Iterable[str]) -> tuple[Binding, ...]:
+        """The bindings whose rule turns one of ``ids`` towards an object hung on a wall
+        (``facing(bed, tv)``: its start hint turns the object to its target), in plan
+        order. The wall object is hung after the floor settles, so no term of the floor
+        turns the object; start poses and floor judges look to it instead."""
+        keep = set(ids)
+        return tuple(b for b in self.bindings
+                     if b.object in keep and b.target is not None
+                     and (hangs := self.surface_of(b.target)) is not None
+                     and hangs.rule.surface == "wall" and b.rule.start is not None
+                     and b.rule.start.turn == "face_target")
+
     def on(self, surface: str) -> list[Binding]:
         """The off-floor bindings that place objects on ``surface`` ("top", "wall", "ceiling")."""
         return [b for b in self._surface.values() if b.rule.surface == surface]

@@ -368,14 +368,10 @@ class ForceModel:
         #: Rows a hard placement rule holds (at a wall, in a corner): keep-out zones push
         #: them along the wall, never off it.
         self.held = self.rules.soft_torque_scale < 1.0
-        hung = {b.object for b in self.compiled.on("wall")}
-        #: Bindings whose rule turns a row towards a wall object (``facing(bed, tv)``):
-        #: the wall object is hung after the floor settles, so no term of the floor turns
-        #: the row; :mod:`forcelayout.initial` starts it turned to where it will hang.
-        self.wall_views = tuple(b for b in self.compiled.bindings
-                                if b.object in row and b.target in hung
-                                and b.rule.start is not None
-                                and b.rule.start.turn == "face_target")
+        #: Bindings whose rule turns a row towards a wall object (``facing(bed, tv)``;
+        #: :meth:`CompiledPlan.wall_views`): :mod:`forcelayout.initial` starts the row
+        #: turned to where that object will hang.
+        self.wall_views = self.compiled.wall_views(row)
         #: Rows some binding of ``wall_views`` turns: those held at no wall keep the
         #: heading they start with.
         self.turned_to_wall = np.zeros(n, dtype=bool)

@@ -79,9 +79,6 @@ class _Wants:
     # from that wall (surfaces.walls.target_stand), and the share of its extent, about its
     # middle, the centre goes over (surfaces.walls.target_middle)
     hanging: list[tuple[np.ndarray, tuple[float, float], float]] = field(default_factory=list)
-    # how high on its wall it and the objects hanging above it reach at the least (a
-    # dresser 0.8 m tall with a mirror above it hides the wall to about 1.8 m), metres
-    wall_top: float = 0.0
     reach: float = 0.0  # how far from its start place its rules let it be (0: unsaid)
     # the one window or door a rule picks, by kind ("window", "door") -> index in the room's
     picks: dict[str, int] = field(default_factory=dict)
@@ -211,10 +208,6 @@ def _wants(model: ForceModel) -> list[_Wants]:
                 b.target, hanging_centres(model.plan, hangs, None),
                 float(getattr(b.params, "max_angle", 90.0)), float(w), high - float(h),
                 float(getattr(b.params, "view_height", np.inf))))
-    floor = model.compiled.floor_ids  # rows not of the plan (an area) hide their height
-    hidden = dict(zip(floor, hidden_heights(model.compiled, floor).tolist(), strict=True))
-    for r, (oid, h) in enumerate(zip(model.ids, model.size[:, 2].tolist(), strict=True)):
-        out[r].wall_top = max(h, hidden.get(oid, h))
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
                 and b.target in row:
@@ -1152,7 +1145,13 @@ class _Placer:
         self.radius = np.hypot(half[:, 0], half[:, 1])
         self.parent = parent = parents(model)
         self.wants = wants = _wants(model)
-        self.wall_top = np.array([w.wall_top for w in wants])
+        # how high on its wall each row hides the wall, what hangs above it included (a
+        # dresser 0.8 m tall with a mirror above it: about 1.8 m); a row not of the plan
+        # (an area) its height
+        floor = model.compiled.floor_ids
+        hidden = dict(zip(floor, hidden_heights(model.compiled, floor).tolist(), strict=True))
+        self.wall_top = np.array([max(h, hidden.get(oid, h)) for oid, h in
+                                  zip(model.ids, model.size[:, 2].tolist(), strict=True)])
         self.walkable = model.walkable
         self.by_object = _bindings_of(model)
         self.window = next((t for t in model.terms if isinstance(t, WindowTerm)), None)

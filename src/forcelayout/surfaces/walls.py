@@ -601,11 +601,9 @@ def unseen(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
     out: list[list[Unseen]] = [[] for _ in range(len(pos))]
     row = {oid: k for k, oid in enumerate(ids)}
     views: dict[str, list[Binding]] = {}  # per wall object, the bindings turning to it
-    for b in cp.bindings:
-        hangs = cp.surface_of(b.target) if b.target is not None else None
-        if b.object in row and hangs is not None and hangs.rule.surface == "wall" \
-                and hangs.target is None and b.rule.start is not None \
-                and b.rule.start.turn == "face_target":
+    for b in cp.wall_views(ids):
+        hangs = cp.surface_of(b.target)
+        if hangs is not None and hangs.target is None:  # not hung above a floor object
             views.setdefault(b.target, []).append(b)
     if not views:
         return out

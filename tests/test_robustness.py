@@ -66,6 +66,25 @@ def test_access_comes_from_the_plan_then_rules_then_category():
     assert access_of(custom.object("shelf")) is None
 
 
+
+def test_the_long_sides_of_a_bed_are_the_long_sides_of_its_footprint():
+    """A bed is got into from a long side: left or right of a bed deeper than wide, front
+    or back of a sofa bed or a crib wider than deep (whose left and right are its ends)."""
+    plan = fl.Plan.from_dict({
+        "name": "beds",
+        "room": {"polygon": [[0, 0], [5, 0], [5, 5], [0, 5]], "height": 2.5},
+        "objects": [{"id": "bed", "category": "double_bed", "size": [1.6, 2.0, 0.5]},
+                    {"id": "sofa_bed", "category": "sofa_bed", "size": [1.9, 0.9, 0.85]},
+                    {"id": "crib", "category": "crib", "size": [1.3, 0.7, 1.0]},
+                    {"id": "daybed", "category": "bed", "size": [2.0, 0.9, 0.6],
+                     "access": {"sides": ["front"], "depth": 0.6}}],
+        "rules": []})
+    assert access_of(plan.object("bed")).sides == ("left", "right")
+    assert access_of(plan.object("sofa_bed")).sides == ("front", "back")
+    assert access_of(plan.object("crib")).sides == ("front", "back")
+    assert access_of(plan.object("crib")).depth == access_of(plan.object("bed")).depth
+    assert access_of(plan.object("daybed")).sides == ("front",)  # the plan's, as written
+
 BATHROOM = {
     "name": "bathroom",
     "room": {"polygon": [[0, 0], [2.4, 0], [2.4, 2.8], [0, 2.8]], "height": 2.5,

@@ -45,8 +45,10 @@ __all__ = ["CATEGORY_ACCESS", "access_of", "access_zones", "AccessZones", "zone_
            "access_term"]
 
 _FRONT = ("front",)
-_LONG_SIDES = ("left", "right")
+_LONG_SIDES = ("left", "right")  # of a footprint deeper than wide, as a bed's is
 #: Default access by category word: which sides need free floor, and how deep (metres).
+#: A bed's sides are its long sides: left and right, or front and back for one wider
+#: than deep (a sofa bed or a crib along a wall).
 CATEGORY_ACCESS: dict[str, Access] = {
     **{w: Access(_LONG_SIDES, 0.5) for w in ("bed", "beds", "bunk", "crib", "cot")},
     **{w: Access(_FRONT, 0.6) for w in (
@@ -66,6 +68,10 @@ _DIRS = {"front": (0.0, 1.0), "back": (0.0, -1.0), "left": (-1.0, 0.0), "right":
 
 def access_of(obj: SceneObject, bindings: Sequence[Binding] = ()) -> Access | None:
     """The access an object needs: from the plan, its rules, or its category.
+
+    A category's long sides (a bed's) are the left and right sides of a
+    footprint deeper than wide, the front and back of one wider than deep
+    (a sofa bed, a crib along a wall).
 
     Parameters
     ----------
@@ -87,7 +93,10 @@ def access_of(obj: SceneObject, bindings: Sequence[Binding] = ()) -> Access | No
             return b.rule.access
     for word in reversed(re.split(r"[^a-z0-9]+", obj.category.lower())):
         if word in CATEGORY_ACCESS:
-            return CATEGORY_ACCESS[word]
+            acc = CATEGORY_ACCESS[word]
+            if acc.sides == _LONG_SIDES and obj.size[0] > obj.size[1]:
+                return Access(("front", "back"), acc.depth)  # its long sides
+            return acc
     return None
 
 

@@ -1173,7 +1173,7 @@ class _Placer:
                 if other != parent[r] and other not in self.side_others[r]:
                     self.side_others[r].append(other)
         # floor to keep free in front of a parent for children standing in front of it
-        front, n_front = np.zeros(n), np.zeros(n)
+        front, n_front, front_width = np.zeros(n), np.zeros(n), np.zeros(n)
         # and on every side of it for its children all round (the chairs at a table)
         around, n_around = np.zeros(n), np.zeros(n)
         # and, side by side, beyond them for their access zones behind them (room to pull
@@ -1184,6 +1184,7 @@ class _Placer:
             # lie in a door's swing and furniture may stand on it)
             if parent[c] >= 0 and "front" in wants[c].places and not model.walkable[c]:
                 front[parent[c]] = max(front[parent[c]], model.size[c, 1] + 0.15)
+                front_width[parent[c]] = max(front_width[parent[c]], model.size[c, 0] + 0.1)
                 n_front[parent[c]] += 1
             if parent[c] >= 0 and "all_round" in wants[c].places:
                 around[parent[c]] = max(around[parent[c]], model.size[c, 1] + _GAP[0])
@@ -1199,6 +1200,9 @@ class _Placer:
                     and "face_target" in wants[c].turns:
                 self.front_sights[parent[c]] += [(c, sight) for sight in wants[c].sights]
         self.front_margin, self.around_margin = front, around
+        # one child in front needs a stretch of that floor as wide as itself, anywhere along
+        # the parent (``in_front_of`` lets it stand off the centre line); several, all of it
+        self.front_width = np.where(n_front == 1, front_width, np.inf)
         self.zoned_margin = np.where(zoned > around, zoned, 0.0)
         self.seat = seat
         self.n_front, self.n_around = n_front, n_around
@@ -1648,9 +1652,14 @@ class _Placer:
                 cramped = np.minimum(cramped, nr * ~side(right, -1.0) + nl * ~side(left, 1.0))
             cramped[sk < loose] = 0.0  # drawn with no wall kept beside them
         fm = self.front_margin[r]
-        if fm > 0:  # in front of it for its front children (the chair at the desk)
-            cramped += self.n_front[r] * ~roomy(cand + fwd * (0.5 * fm),
-                                                half[r] + np.array([0.0, 0.5 * fm]))
+        if fm > 0:  # in front of it for its front children (the chair at the desk): at
+            # either end of its front or in the middle
+            hw = min(0.5 * self.front_width[r], half[r, 0])
+            ext = np.array([hw, half[r, 1] + 0.5 * fm])
+            free = np.zeros(n, dtype=bool)
+            for sign in (0.0, -1.0, 1.0) if hw < half[r, 0] else (0.0,):
+                free |= roomy(cand + fwd * (0.5 * fm) + rgt * (sign * (half[r, 0] - hw)), ext)
+            cramped += self.n_front[r] * ~free
         am = self.around_margin[r]
         if am > 0:  # all round it for its children there (the chairs at a table)
             cramped += self.n_around[r] * ~roomy(cand, half[r] + am)

@@ -1721,7 +1721,6 @@ class _Placer:
         corners = self._footprints(rows, pos, yaw)  # (C, M, 4, 2)
         tops = self.wall_top[rows]  # what hangs above an object hides the wall too
         c, f, rg = cand[:, 0], fwd[:, 0], rgt[:, 0]
-        mine = geo.corners_from_axes(c, rg, f, np.tile(self.half[r], (n, 1)))[:, None]
         for p in viewers if not self.walkable[r] else []:
             k = solid.index(p)
             counts = seen.copy()
@@ -1735,9 +1734,8 @@ class _Placer:
                 had = seen[:, k] & np.isfinite(spot[:, 0])
                 if hides:
                     after = _sight_spot(room, sight, at, front,
-                                        np.concatenate([corners, mine], axis=1),
-                                        np.append(tops, self.wall_top[r]),
-                                        np.concatenate([counts, np.ones((n, 1), bool)], 1))
+                                        *self._with_candidate(r, cand, rgt, fwd, corners, tops,
+                                                              counts))
                     gone = np.isnan(after[:, 0])
                     moved = ~gone & (np.abs(after - spot).max(axis=1) > 0.05)
                     out += had * (gone + 0.5 * moved)
@@ -1764,6 +1762,18 @@ class _Placer:
             out += ~found | (off > np.radians(sight.angle)) | blocked | (found & close)
         return out
 
+    def _with_candidate(self, r: int, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray,
+                        corners: np.ndarray, tops: np.ndarray, seen: np.ndarray
+                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The footprints (C, M, 4, 2), wall tops (M,) and presence (C, M) of placed rows
+        with row ``r`` standing at each candidate (C, 1, 2) too (turned by its right and
+        front vectors, (C, 1, 2)): shapes (C, M + 1, 4, 2), (M + 1,), (C, M + 1)."""
+        n = len(cand)
+        mine = geo.corners_from_axes(cand[:, 0], rgt[:, 0], fwd[:, 0],
+                                     np.tile(self.half[r], (n, 1)))[:, None]
+        return (np.concatenate([corners, mine], axis=1), np.append(tops, self.wall_top[r]),
+                np.concatenate([seen, np.ones((n, 1), dtype=bool)], axis=1))
+
     def _front_sight_misses(self, r: int, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray,
                             solid: list[int], pos: np.ndarray, yaw: np.ndarray,
                             present: np.ndarray | None) -> np.ndarray:
@@ -1776,11 +1786,10 @@ class _Placer:
         n = len(cand)
         rows = np.array(solid, dtype=int)
         seen = np.ones((n, len(rows)), dtype=bool) if present is None else present
-        c, f, rg = cand[:, 0], fwd[:, 0], rgt[:, 0]
-        mine = geo.corners_from_axes(c, rg, f, np.tile(self.half[r], (n, 1)))[:, None]
-        corners = np.concatenate([self._footprints(rows, pos, yaw), mine], axis=1)
-        tops = np.append(self.wall_top[rows], self.wall_top[r])
-        counts = np.concatenate([seen, np.ones((n, 1), dtype=bool)], axis=1)
+        c, f = cand[:, 0], fwd[:, 0]
+        corners, tops, counts = self._with_candidate(r, cand, rgt, fwd,
+                                                     self._footprints(rows, pos, yaw),
+                                                     self.wall_top[rows], seen)
         out = np.zeros(n)
         for k, sight in self.front_sights[r]:
             at = c + f * (self.half[r, 1] + _GAP[1] + self.half[k, 1])

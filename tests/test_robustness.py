@@ -143,6 +143,26 @@ def test_a_tall_object_between_breaks_a_clear_view():
     assert facing.satisfied(low, i, j, p)[0]  # a coffee table does not block the view
 
 
+
+def test_what_stands_on_the_target_does_not_block_the_view_of_it():
+    """Only floor objects block a view: the TV on the stand a sofa faces is what the sofa
+    looks at (a view lower than the TV was never met in a finished layout)."""
+    plan = fl.Plan.from_dict({
+        "name": "tv", "room": {"polygon": [[0, 0], [4, 0], [4, 4], [0, 4]]},
+        "objects": [{"id": "sofa", "category": "sofa", "size": [2.0, 0.9, 0.85]},
+                    {"id": "stand", "category": "tv_stand", "size": [1.6, 0.45, 0.5]},
+                    {"id": "tv", "category": "tv", "size": [1.2, 0.2, 0.75]},
+                    {"id": "table", "category": "coffee_table", "size": [1.0, 0.6, 0.42]}],
+        "rules": [{"rule": "at_wall", "object": "sofa"}, {"rule": "at_wall", "object": "stand"},
+                  {"rule": "facing", "object": "sofa", "target": "stand",
+                   "params": {"view_height": 0.6}},
+                  {"rule": "on_top", "object": "tv", "target": "stand"},
+                  {"rule": "in_front_of", "object": "table", "target": "sofa"}]})
+    layouts = fl.generate(plan, 4, seed=0, max_attempts=12)
+    assert len(layouts) == 4
+    for lay in layouts:
+        assert all(r.satisfied for r in lay.rule_report())
+
 def test_repairs_are_reported_and_can_be_turned_off():
     plan = fl.load_plan("l_shaped_studio")  # the bundled plan that needs repairs most often
     full = fl.SolverConfig(settle_steps=0)  # every sample through the full simulation

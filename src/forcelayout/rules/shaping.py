@@ -149,7 +149,9 @@ def view_blockers(state: State, i: np.ndarray, j: np.ndarray, height: np.ndarray
     The line of sight is the segment between the two footprint centres,
     ``width`` metres wide; an object blocks it when its footprint overlaps
     that strip and it is taller than ``height`` metres (seated eye level is
-    about 1.1 m). The objects ``i`` and ``j`` themselves never block.
+    about 1.1 m). The objects ``i`` and ``j`` themselves never block, nor, in a
+    finished layout (``state.surfaces`` given), what does not stand on the
+    floor: the TV on the stand looked at, a lamp hung from the ceiling.
 
     Returns
     -------
@@ -170,6 +172,8 @@ def view_blockers(state: State, i: np.ndarray, j: np.ndarray, height: np.ndarray
                              half[:, None], state.right[rows], state.front[rows],
                              state.half[rows])
     tall = state.size[rows, 2] > np.asarray(height, dtype=float).reshape(-1, 1)
+    if state.surfaces is not None:  # a finished layout: its floor objects only
+        tall &= np.array([s == "floor" for s in state.surfaces], dtype=bool)[rows]
     out = (sep < 0.0) & tall
     first = rows[:, 0]
     out[np.arange(b), i - first] = False

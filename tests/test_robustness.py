@@ -76,14 +76,18 @@ def test_the_long_sides_of_a_bed_are_the_long_sides_of_its_footprint():
         "objects": [{"id": "bed", "category": "double_bed", "size": [1.6, 2.0, 0.5]},
                     {"id": "sofa_bed", "category": "sofa_bed", "size": [1.9, 0.9, 0.85]},
                     {"id": "crib", "category": "crib", "size": [1.3, 0.7, 1.0]},
-                    {"id": "daybed", "category": "bed", "size": [2.0, 0.9, 0.6],
-                     "access": {"sides": ["front"], "depth": 0.6}}],
+                    {"id": "daybed", "category": "daybed", "size": [2.0, 0.9, 0.6]},
+                    {"id": "cot", "category": "bed", "size": [2.0, 0.9, 0.6],
+                     "access": {"sides": ["front"], "depth": 0.6}},
+                    {"id": "changer", "category": "changing_table", "size": [0.9, 0.55, 0.95]}],
         "rules": []})
     assert access_of(plan.object("bed")).sides == ("left", "right")
     assert access_of(plan.object("sofa_bed")).sides == ("front", "back")
     assert access_of(plan.object("crib")).sides == ("front", "back")
     assert access_of(plan.object("crib")).depth == access_of(plan.object("bed")).depth
-    assert access_of(plan.object("daybed")).sides == ("front",)  # the plan's, as written
+    assert access_of(plan.object("daybed")).sides == ("front", "back")
+    assert access_of(plan.object("cot")).sides == ("front",)  # the plan's, as written
+    assert access_of(plan.object("changer")).sides == ("front",)  # used from its front
 
 BATHROOM = {
     "name": "bathroom",

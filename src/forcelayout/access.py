@@ -50,11 +50,12 @@ _LONG_SIDES = ("left", "right")  # of a footprint deeper than wide, as a bed's i
 #: A bed's sides are its long sides: left and right, or front and back for one wider
 #: than deep (a sofa bed or a crib along a wall).
 CATEGORY_ACCESS: dict[str, Access] = {
-    **{w: Access(_LONG_SIDES, 0.5) for w in ("bed", "beds", "bunk", "crib", "cot")},
+    **{w: Access(_LONG_SIDES, 0.5) for w in ("bed", "beds", "bunk", "crib", "cot", "daybed",
+                                             "sofabed")},
     **{w: Access(_FRONT, 0.6) for w in (
         "wardrobe", "closet", "armoire", "desk", "workbench", "counter", "countertop",
         "worktop", "sink", "vanity", "dishwasher", "washer", "dryer", "laundry", "shower",
-        "bathtub", "tub")},
+        "bathtub", "tub", "changing")},
     **{w: Access(_FRONT, 0.7) for w in ("fridge", "refrigerator", "freezer", "stove", "oven",
                                          "range", "cooktop", "hob")},
     **{w: Access(_FRONT, 0.5) for w in (

@@ -27,11 +27,17 @@ bootstrap interval of its two diversity ratios (forcelayout over baseline;
 both sets of layouts drawn again with replacement); a plan below the target
 is *clearly below* when a whole interval lies under 0.95.
 
+How often does a sampler exactly as diverse as the baseline pass that test?
+``--baseline-again`` runs the baseline a second time on each plan, with the
+next seed, and judges it against the first run as forcelayout is judged:
+the share of plans it passes is the test's chance level at this many
+layouts.
+
 Usage::
 
     python benchmarks/suite.py [--plans bedroom living_room my_plans/ x.json]
         [--samples 30] [--baseline-tries 2000] [--batch 64] [--jobs 2] [--quick]
-        [--markdown] [--out suite.json]
+        [--baseline-again] [--markdown] [--out suite.json]
 """
 
 from __future__ import annotations
@@ -181,6 +187,21 @@ def run_baseline(plan: fl.Plan, samples: int, tries: int, seed: int, pairs_of: i
     }
 
 
+def diversity_targets(f: dict[str, Any], b: dict[str, Any],
+                      ratio: dict[str, list[float]]) -> dict[str, bool | None]:
+    """Whether diversities ``f`` reach the target against ``b`` (both metrics), and
+    whether one is clearly below it (the whole interval of its ``ratio`` under it);
+    None where ``b`` has no diversity."""
+    div, clear = [], []
+    for m in METRICS:
+        if b[m] is not None:
+            div.append(f[m] is not None and f[m] >= DIVERSITY_RATIO * b[m])
+            ci = ratio.get(m)
+            clear.append(ci is not None and bool(ci[1] < DIVERSITY_RATIO))
+    return {"diversity": all(div) if div else None,
+            "diversity_clearly_below": any(clear) if clear else None}
+
+
 def plan_targets(row: dict[str, Any]) -> dict[str, bool | None]:
     """Pass/fail of one plan against the targets (None where a target does not apply)."""
     f, b = row["forcelayout"], row["baseline"]
@@ -189,16 +210,8 @@ def plan_targets(row: dict[str, Any]) -> dict[str, bool | None]:
         "yield": (f["yield_pct"] >= 100 * YIELD_EACH) if solvable else None,
         "not_below_baseline": (f["yield_pct"] >= b["yield_pct"]
                                if b["yield_pct"] is not None else None),
+        **diversity_targets(f, b, row["diversity_ratio"]),
     }
-    div, clear = [], []
-    for m in METRICS:
-        if b[m] is not None:
-            div.append(f[m] is not None and f[m] >= DIVERSITY_RATIO * b[m])
-            ci = row["diversity_ratio"].get(m)
-            clear.append(ci is not None and bool(ci[1] < DIVERSITY_RATIO))
-    out["diversity"] = all(div) if div else None
-    # below the target beyond doubt: the whole interval of a ratio under it
-    out["diversity_clearly_below"] = any(clear) if clear else None
     if row["objects"] >= SPEED_MIN_OBJECTS and solvable:
         out["speed"] = (f["good_per_s"] or 0.0) >= (b["good_per_s"] or 0.0)
     else:
@@ -206,9 +219,10 @@ def plan_targets(row: dict[str, Any]) -> dict[str, bool | None]:
     return out
 
 
-def bench_plan(source: str, samples: int, tries: int, seed: int, pairs_of: int, batch: int
-               ) -> dict[str, Any]:
-    """Everything measured on one plan; an error becomes an error row."""
+def bench_plan(source: str, samples: int, tries: int, seed: int, pairs_of: int, batch: int,
+               again: bool = False) -> dict[str, Any]:
+    """Everything measured on one plan (with ``again``, the baseline's second run too);
+    an error becomes an error row."""
     try:
         plan = fl.load_plan(source)
         row: dict[str, Any] = {
@@ -223,6 +237,14 @@ def bench_plan(source: str, samples: int, tries: int, seed: int, pairs_of: int, 
         row["diversity_ratio"] = {m: ratio_interval(fp[m], bp[m]) for m in METRICS
                                   if fp[m] is not None and bp[m] is not None}
         row["targets"] = plan_targets(row)
+        if again:  # the baseline with the next seed, judged against its first run
+            second = run_baseline(plan, samples, tries, seed + 1, pairs_of)
+            sp = second.pop("pairs")
+            ratio = {m: ratio_interval(sp[m], bp[m]) for m in METRICS
+                     if sp[m] is not None and bp[m] is not None}
+            row["baseline_again"] = {"seed": seed + 1, **second, "diversity_ratio": ratio,
+                                     "targets": diversity_targets(second, row["baseline"],
+                                                                  ratio)}
         return row
     except Exception as e:  # one bad plan must not stop the suite
         return {"plan": Path(source).stem, "source": source,
@@ -252,7 +274,8 @@ def resolve_plans(specs: list[str] | None) -> list[str]:
 
 
 def run_all(sources: list[str], args: argparse.Namespace) -> list[dict[str, Any]]:
-    task = (args.samples, args.baseline_tries, args.seed, args.pairs_of, args.batch)
+    task = (args.samples, args.baseline_tries, args.seed, args.pairs_of, args.batch,
+            args.baseline_again)
     if args.jobs <= 1 or len(sources) <= 1:
         return [bench_plan(s, *task) for s in sources]
     rows: list[dict[str, Any]] = []
@@ -320,7 +343,17 @@ def overall(rows: list[dict[str, Any]]) -> dict[str, Any]:
         },
         "speed_ratio": f_rate / b_rate if f_rate and b_rate else None,
         "targets": targets,
+        **({"baseline_again": _chance(ok)} if any("baseline_again" in r for r in ok) else {}),
     }
+
+
+def _chance(rows: list[dict[str, Any]]) -> dict[str, int]:
+    """How many plans the baseline's second run passes the diversity target on against its
+    first, of how many judged, and on how many it is clearly below."""
+    t = [r["baseline_again"]["targets"] for r in rows if "baseline_again" in r
+         and r["baseline_again"]["targets"]["diversity"] is not None]
+    return {"judged": len(t), "diversity": sum(bool(x["diversity"]) for x in t),
+            "clearly_below": sum(bool(x["diversity_clearly_below"]) for x in t)}
 
 
 # -- output -------------------------------------------------------------------------------
@@ -418,6 +451,10 @@ def markdown(result: dict[str, Any]) -> str:
         f"- diversity ≥ {DIVERSITY_RATIO} × the baseline's on every plan: "
         f"{_mark(to['diversity'])} ({_diversity_count(result['plans'])})"
         + _diversity_below(result["plans"]),
+        *([f"- the same test, the baseline's second run (the next seed) against its "
+           f"first: {c['diversity']} of {c['judged']} plans at ≥ {DIVERSITY_RATIO} ×, "
+           f"{c['clearly_below']} clearly below (a sampler as diverse as the baseline "
+           f"passes it this often)"] if (c := o.get("baseline_again")) else []),
         f"- good/s ≥ the baseline's on every plan of ≥ {SPEED_MIN_OBJECTS} objects: "
         f"{_mark(to['speed_each'])} ({_below(result['plans'], 'speed')}); "
         f"≥ {SPEED_SUITE:g} × over the suite "
@@ -470,6 +507,9 @@ def main(argv: list[str] | None = None) -> None:
                            "asked for (default 30)")
     ap.add_argument("--pairs-of", type=int, default=30,
                     help="diversity over at most this many good layouts per plan (default 30)")
+    ap.add_argument("--baseline-again", action="store_true",
+                    help="run the baseline again with the next seed and judge its diversity "
+                         "against the first run's: the diversity test's chance level")
     args = parse_plan_arguments(ap, argv, ("samples", "baseline_tries", "pairs_of", "batch"))
     sources = resolve_plans(args.plans)
     t0 = time.perf_counter()
@@ -480,7 +520,7 @@ def main(argv: list[str] | None = None) -> None:
         "config": {"plans": [r["plan"] for r in rows], "samples": args.samples,
                    "baseline_tries": args.baseline_tries, "pairs_of": args.pairs_of,
                    "seed": args.seed, "jobs": args.jobs, "batch": args.batch,
-                   "good_rules": GOOD_RULES},
+                   "good_rules": GOOD_RULES, "baseline_again": args.baseline_again},
         "plans": rows,
         "overall": overall(rows),
         "wall_seconds": time.perf_counter() - t0,

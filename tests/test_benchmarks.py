@@ -114,6 +114,21 @@ def test_suite_quick(tmp_path: Path) -> None:
         assert "topo 0.50 [0.40, 0.60]" in markdown(result)
 
 
+def test_suite_baseline_again(tmp_path: Path) -> None:
+    """--baseline-again runs the baseline with the next seed and judges its diversity
+    against the first run's, as forcelayout's is judged: the test's chance level."""
+    result, rest = run("suite.py", "--quick", "--jobs", "1", "--plans", "bedroom",
+                       "--baseline-again", "--markdown")
+    assert result["config"]["baseline_again"] is True
+    (row,) = result["plans"]
+    again = row["baseline_again"]
+    assert again["seed"] == 1 and again["accepted"] <= 3
+    assert set(again["targets"]) == {"diversity", "diversity_clearly_below"}
+    chance = result["overall"]["baseline_again"]
+    assert chance["judged"] == (again["targets"]["diversity"] is not None)
+    assert chance["diversity"] <= chance["judged"]
+    assert ("the baseline's second run" in rest) == bool(chance)
+
 def test_diversity_ratio_interval() -> None:
     """The suite's bootstrap interval of a diversity ratio covers the true ratio."""
     sys.path.insert(0, str(BENCH))

@@ -295,26 +295,33 @@ def test_input_errors_of_every_kind_are_one_line_with_status_2(tmp_path, capsys)
     assert not any("Traceback" in line or "--debug" in line for line in err)
 
 
-def test_generate_access_requires_free_access_zones(tmp_path):
+def test_generate_access_requires_free_access_zones(tmp_path, capsys):
     """``--access`` makes the access check a requirement: in a 3 x 3 m bedroom with a bed,
     a wardrobe, a desk and its chair some layouts leave the wardrobe's front or the desk's
-    blocked without it, none with it."""
+    blocked without it, none with it. Without it, a note counts those layouts."""
     from forcelayout import Layout, load_plan
     from forcelayout.validate import check_layout
 
     plan = Path(__file__).resolve().parents[1] / "benchmarks/plans/bedroom_small_single_3x3.json"
     p = load_plan(plan)
-    blocked = {}
+    blocked, notes = {}, {}
     for flag in ([], ["--access"]):
         out = tmp_path / f"out{len(flag)}"
         assert main(["generate", str(plan), "-n", "8", "--out", str(out), "--quiet",
                      "--format", "none", *flag]) == 0
+        notes[bool(flag)] = [line for line in capsys.readouterr().out.splitlines()
+                             if "no free access zone" in line]
         written = [f for f in out.glob("*.json") if f.name not in ("plan.json", "summary.json")]
         assert len(written) == 8
         blocked[bool(flag)] = sum(
             check_layout(Layout.from_json(f.read_text(), p), access_clearance=True)
             .failed("access") for f in written)
     assert blocked[False] >= 1 and blocked[True] == 0
+    (note,) = notes[False]
+    assert note.startswith(f"note: {blocked[False]} of the 8 layouts leave an object no free "
+                           "access zone (") and note.endswith("--access asks for one in every "
+                                                              "layout")
+    assert notes[True] == []
 
 
 def test_generate_access_draws_the_access_zones(tmp_path):

@@ -91,6 +91,26 @@ def _draw(layout: Layout, path: Path, access: bool = False) -> None:
     layout.picture(path, show_access=access)
 
 
+def _blocked_access(layouts: list[Layout]) -> tuple[int, Counter[str], dict[str, str]]:
+    """How many of the layouts leave some object with every access zone blocked (as the
+    ``access`` check judges the zones), how often each such object, and what covers it
+    most in the first layout where it is."""
+    from forcelayout.access import zone_states
+
+    count, objects, by = 0, Counter[str](), {}
+    for lay in layouts:
+        zones: dict[str, list] = {}
+        for z in zone_states(lay):
+            zones.setdefault(z.object, []).append(z)
+        shut = [oid for oid, zs in zones.items() if not any(z.free for z in zs)]
+        count += bool(shut)
+        objects.update(shut)
+        for oid in shut:
+            cover = next((z.covered_by[0][0] for z in zones[oid] if z.covered_by), "wall")
+            by.setdefault(oid, cover)
+    return count, objects, by
+
+
 def run_generate(args: argparse.Namespace) -> int:
     """Run the ``generate`` sub-command; returns the exit status."""
     plan = _plan_from_args(args)
@@ -170,6 +190,13 @@ def run_generate(args: argparse.Namespace) -> int:
               f"the same spot in all {summary['accepted']} layouts: the room and rules leave "
               f"{'it' if len(still) == 1 else 'them'} one place (move a door or window, or "
               "loosen a rule, for variety)")
+    if not args.access and result.layouts:  # kept free by forces only: say where it is not
+        blocked, objects, by = _blocked_access(result.layouts)
+        if blocked:
+            which = ", ".join(f"{oid!r} x{k} (by {by[oid]!r})"
+                              for oid, k in objects.most_common(3))
+            print(f"note: {blocked} of the {summary['accepted']} layouts leave an object no "
+                  f"free access zone ({which}); --access asks for one in every layout")
     if summary["failure_reasons"]:
         # the counts, and one line of the most common kind (summary.json has every line)
         top = next(iter(summary["failure_reasons"]))

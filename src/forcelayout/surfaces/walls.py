@@ -610,17 +610,21 @@ def unseen(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
     room, plan = cp.room, cp.plan
     size = cp.size(ids)
     tops = hidden_heights(cp, ids)
+    # per wall object, what no arrangement changes: its size, its band on the wall, the
+    # rows turned to it and the tangents of their rules' angles
+    looked_at = []
+    for target, bindings in views.items():
+        w, _, h = cp.size([target])[0]
+        low, high = wall_band(cp.surface_of(target), plan.room.height)
+        tan = np.tan(np.radians(np.minimum(
+            [float(getattr(b.params, "max_angle", 90.0)) for b in bindings], 89.0)))
+        looked_at.append((bindings, w, h, low, high, [row[b.object] for b in bindings], tan))
     for k in range(len(pos)):
         corners = box_corners(pos[k], yaw[k], size[:, :2] * 0.5)
         blocks: dict[int, list[Block]] = {}
-        for target, bindings in views.items():
-            hangs = cp.surface_of(target)
-            w, _, h = cp.size([target])[0]
-            low, high = wall_band(hangs, plan.room.height)
-            rows = [row[b.object] for b in bindings]
+        for bindings, w, h, low, high, rows, tan in looked_at:
             wall, u, dist = rays_to_walls(room, pos[k, rows], front_vectors(yaw[k, rows]))
-            cone = dist * np.tan(np.radians(np.minimum(
-                [float(getattr(b.params, "max_angle", 90.0)) for b in bindings], 89.0)))
+            cone = dist * tan
             # where each lets its centre be: the rules judge the nearest point of the wall
             # object's footprint, up to half its width from its centre
             spans = np.stack([u - cone - w / 2, u + cone + w / 2], axis=1)

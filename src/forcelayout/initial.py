@@ -1721,7 +1721,11 @@ class _Placer:
         corners = self._footprints(rows, pos, yaw)  # (C, M, 4, 2)
         tops = self.wall_top[rows]  # what hangs above an object hides the wall too
         c, f, rg = cand[:, 0], fwd[:, 0], rgt[:, 0]
-        for p in viewers if not self.walkable[r] else []:
+        viewing = [] if self.walkable[r] else viewers
+        if viewing:  # the same with the candidate standing there too, for walls it hides
+            corners_c, tops_c, seen_c = self._with_candidate(r, cand, rgt, fwd, corners, tops,
+                                                             seen)
+        for p in viewing:
             k = solid.index(p)
             counts = seen.copy()
             counts[:, k] = False  # not in its own way
@@ -1733,9 +1737,9 @@ class _Placer:
                 spot = _sight_spot(room, sight, at, front, corners, tops, counts)
                 had = seen[:, k] & np.isfinite(spot[:, 0])
                 if hides:
-                    after = _sight_spot(room, sight, at, front,
-                                        *self._with_candidate(r, cand, rgt, fwd, corners, tops,
-                                                              counts))
+                    counts_c = seen_c.copy()
+                    counts_c[:, k] = False
+                    after = _sight_spot(room, sight, at, front, corners_c, tops_c, counts_c)
                     gone = np.isnan(after[:, 0])
                     moved = ~gone & (np.abs(after - spot).max(axis=1) > 0.05)
                     out += had * (gone + 0.5 * moved)

@@ -38,7 +38,7 @@ from pathlib import Path
 
 import forcelayout as fl
 from forcelayout import baselines
-from forcelayout.access import zone_states
+from forcelayout.access import blocked_objects
 from forcelayout.sampling import sample_seed, solve_many
 
 HERE = Path(__file__).resolve().parent
@@ -48,14 +48,9 @@ def blocked_owners(layout: fl.Layout, area: float, width: float
                    ) -> list[tuple[str, list[str]]]:
     """Objects of a layout with every access zone blocked, each with what blocks it (an
     object's id or ``"wall"``), as the ``access`` check judges the zones
-    (:func:`forcelayout.access.zone_states`)."""
-    zones = zone_states(layout, max_access_overlap=area, access_width=width)
-    free = {z.object for z in zones if z.free}
-    out: dict[str, list[str]] = {}
-    for z in zones:
-        if z.object not in free:
-            out.setdefault(z.object, []).extend(w for w, a in z.covered_by if a >= 0.01)
-    return list(out.items())
+    (:func:`forcelayout.access.blocked_objects`)."""
+    shut = blocked_objects(layout, max_access_overlap=area, access_width=width)
+    return [(oid, [w for w, a in covers if a >= 0.01]) for oid, covers in shut.items()]
 
 
 def _summary(layouts: list, area: float, width: float) -> dict:

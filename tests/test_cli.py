@@ -295,14 +295,16 @@ def test_input_errors_of_every_kind_are_one_line_with_status_2(tmp_path, capsys)
     assert not any("Traceback" in line or "--debug" in line for line in err)
 
 
-def test_generate_access_requires_free_access_zones(tmp_path, capsys):
+@pytest.mark.parametrize("name", ["plans/bedroom_small_single_3x3",
+                                  "plans_heldout/bedroom_compact_double_desk"])
+def test_generate_access_requires_free_access_zones(tmp_path, capsys, name):
     """``--access`` makes the access check a requirement: in a 3 x 3 m bedroom with a bed,
     a wardrobe, a desk and its chair some layouts leave the wardrobe's front or the desk's
     blocked without it, none with it. Without it, a note counts those layouts."""
     from forcelayout import Layout, load_plan
     from forcelayout.validate import check_layout
 
-    plan = Path(__file__).resolve().parents[1] / "benchmarks/plans/bedroom_small_single_3x3.json"
+    plan = Path(__file__).resolve().parents[1] / "benchmarks" / f"{name}.json"
     p = load_plan(plan)
     blocked, notes = {}, {}
     for flag in ([], ["--access"]):

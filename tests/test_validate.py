@@ -706,6 +706,19 @@ def test_zone_states_say_which_zones_are_free_and_what_covers_the_others():
         zone_states(lay, access_width=0.0)
 
 
+
+def test_blocked_objects_are_those_with_no_zone_free_with_what_covers_them():
+    from forcelayout.access import blocked_objects, zone_states
+
+    lay = Layout(ACCESS_PLAN, {"wardrobe": Pose(1.5, 0.3, 0.0), "box": Pose(1.5, 1.0, 0.0),
+                               "bed": Pose(0.7, 2.0, 0.0)})
+    shut = blocked_objects(lay)
+    assert list(shut) == ["wardrobe"]  # the bed's right side is free
+    assert shut["wardrobe"] == [c for z in zone_states(lay) if z.object == "wardrobe"
+                                for c in z.covered_by]
+    assert shut["wardrobe"][0][0] == "box"
+    assert set(blocked_objects(lay, access_width=2.0)) == {"wardrobe", "bed"}
+
 @given(seed=st.integers(0, 2**16))
 @settings(max_examples=25, deadline=None)
 def test_an_object_fails_the_access_check_exactly_when_no_zone_of_it_is_free(seed):

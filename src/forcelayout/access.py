@@ -41,8 +41,8 @@ if TYPE_CHECKING:
     from forcelayout.layout import Layout
 
 __all__ = ["CATEGORY_ACCESS", "access_of", "access_zones", "AccessZones", "zone_boxes",
-           "related_pairs", "layout_zones", "ZoneState", "zone_states", "AccessTerm",
-           "access_term"]
+           "related_pairs", "layout_zones", "ZoneState", "zone_states", "blocked_objects",
+           "AccessTerm", "access_term"]
 
 _FRONT = ("front",)
 _LONG_SIDES = ("left", "right")  # of a footprint deeper than wide, as a bed's is
@@ -419,6 +419,42 @@ def zone_states(layout: Layout, *, max_access_overlap: float = 0.1, access_width
 
     return [ZoneState(*z) for z in judge(layout, max_access_overlap=max_access_overlap,
                                          access_width=access_width)]
+
+
+def blocked_objects(layout: Layout, *, max_access_overlap: float = 0.1,
+                    access_width: float = 0.6) -> dict[str, list[tuple[str, float]]]:
+    """The objects of a layout with no access zone free, each with what covers its zones:
+    the objects the ``access`` check fails.
+
+    Parameters
+    ----------
+    layout : Layout
+    max_access_overlap, access_width : float
+        As for :func:`forcelayout.validate.check_layout`.
+
+    Returns
+    -------
+    dict of str to list of (str, float)
+        Per such object, in the order of :func:`layout_zones`, what covers each of its
+        zones (an object's id or ``"wall"``, m²; each zone's largest first, as
+        :attr:`ZoneState.covered_by`).
+
+    Examples
+    --------
+    >>> import forcelayout as fl
+    >>> from forcelayout.access import blocked_objects
+    >>> lay = fl.solve(fl.examples.load_example("bedroom"), seed=0)
+    >>> blocked_objects(lay)
+    {}
+    """
+    zones = zone_states(layout, max_access_overlap=max_access_overlap,
+                        access_width=access_width)
+    free = {z.object for z in zones if z.free}
+    out: dict[str, list[tuple[str, float]]] = {}
+    for z in zones:
+        if z.object not in free:
+            out.setdefault(z.object, []).extend(z.covered_by)
+    return out
 
 
 def access_term(plan_objects: dict[str, SceneObject], ids: Sequence[str],

@@ -95,19 +95,15 @@ def _blocked_access(layouts: list[Layout]) -> tuple[int, Counter[str], dict[str,
     """How many of the layouts leave some object with every access zone blocked (as the
     ``access`` check judges the zones), how often each such object, and what covers it
     most in the first layout where it is."""
-    from forcelayout.access import zone_states
+    from forcelayout.access import blocked_objects
 
     count, objects, by = 0, Counter[str](), {}
     for lay in layouts:
-        zones: dict[str, list] = {}
-        for z in zone_states(lay):
-            zones.setdefault(z.object, []).append(z)
-        shut = [oid for oid, zs in zones.items() if not any(z.free for z in zs)]
+        shut = blocked_objects(lay)
         count += bool(shut)
-        objects.update(shut)
-        for oid in shut:
-            cover = next((z.covered_by[0][0] for z in zones[oid] if z.covered_by), "wall")
-            by.setdefault(oid, cover)
+        objects.update(shut.keys())
+        for oid, covers in shut.items():
+            by.setdefault(oid, covers[0][0] if covers else "wall")
     return count, objects, by
 
 

@@ -239,6 +239,43 @@ def test_a_start_which_must_name_a_parameter_picking_a_window_or_door():
             start = rules.StartHint(place="door", which="entrance")
 
 
+def test_a_start_cone_must_name_a_parameter_of_a_rule_turning_to_its_target():
+    with pytest.raises(ValueError, match="cone"):  # only with turn face_target
+        rules.StartHint(place="wall", cone="max_angle")
+    with pytest.raises(TypeError, match="cone names 'angle'"):
+        class Faces(rules.Rule):
+            name = "facing_test_cone"
+            target = "required"
+            start = rules.StartHint(turn="face_target", cone="angle")
+
+
+def test_a_start_across_the_room_spreads_over_the_cone_its_rule_allows():
+    """A stove facing the sink from the other long wall of a galley within 45 degrees:
+    starts take that wall anywhere the cone reaches, not only straight across, and every
+    one of them meets the rule."""
+    plan = fl.Plan.from_dict({
+        "name": "galley",
+        "room": {"polygon": [[0, 0], [2.4, 0], [2.4, 4.2], [0, 4.2]], "height": 2.6},
+        "objects": [{"id": "sink", "category": "sink", "size": [0.8, 0.6, 0.9]},
+                    {"id": "stove", "category": "stove", "size": [0.6, 0.6, 0.9]}],
+        "rules": [{"rule": "at_wall", "object": "sink"},
+                  {"rule": "at_wall", "object": "stove"},
+                  {"rule": "facing", "object": "stove", "target": "sink",
+                   "params": {"max_angle": 45}}]})
+    model = ForceModel(plan)
+    row = {oid: k for k, oid in enumerate(model.ids)}
+    off, met = [], []
+    for s in range(120):
+        pos, yaw = propose_poses(model, np.random.default_rng(s))
+        sink, stove = pos[row["sink"]], pos[row["stove"]]
+        if abs(np.cos(yaw[row["sink"]])) < 0.1 and abs(sink[0] - stove[0]) > 1.5:
+            off.append(abs(sink[1] - stove[1]))  # across the galley: the sideways offset
+            met.append(model.satisfied(model.state(pos, yaw))[2])  # the facing rule
+    assert len(off) >= 40 and all(met)
+    # straight across (as before the cone was drawn from): 4 % past 0.6 m, none past 0.8 m
+    assert np.mean(np.array(off) > 0.6) >= 0.15 and max(off) > 1.0
+
+
 def test_a_start_in_the_middle_spreads_over_the_share_the_rule_allows():
     plan = fl.Plan.from_dict({
         "name": "middle",

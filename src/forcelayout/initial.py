@@ -82,6 +82,9 @@ class _Wants:
     reach: float = 0.0  # how far from its start place its rules let it be (0: unsaid)
     # the one window or door a rule picks, by kind ("window", "door") -> index in the room's
     picks: dict[str, int] = field(default_factory=dict)
+    # per target row it is turned towards, the largest angle its rule lets the target lie
+    # off its front (StartHint.cone), degrees
+    cones: dict[int, float] = field(default_factory=dict)
     # the wall objects (ids) it is turned towards by a rule (a beanbag facing the TV on the
     # wall): they are hung after the floor settles, where they meet the most such rules
     views: set[str] = field(default_factory=set)
@@ -195,6 +198,8 @@ def _wants(model: ForceModel) -> list[_Wants]:
                 w.turns.add(hint.turn)
             if hint.reach is not None:
                 w.reach = max(w.reach, float(getattr(g.params, hint.reach)[b]))
+            if hint.cone is not None and j >= 0:
+                w.cones[j] = min(w.cones.get(j, 180.0), float(getattr(g.params, hint.cone)[b]))
             if hint.which is not None and getattr(g.params, hint.which)[b] >= 0:
                 w.picks[hint.place] = int(getattr(g.params, hint.which)[b])
     row = {oid: k for k, oid in enumerate(model.ids)}
@@ -551,6 +556,18 @@ def _child_candidates(room, draws: _Draws, k, wants: _Wants, q: np.ndarray, r, p
     if "wall" in places and "face_target" in turns:  # across the room, on the wall it faces
         span = float(np.hypot(*(room.bounds[2:] - room.bounds[:2])))
         cand = pq + fq * draws.uniform(1.0, span, (k, 1)) + rq * draws.normal(0.3, (k, 1))
+        cone = np.array([wants.cones.get(int(p), 0.0) for p in q])
+        if not cone.any():
+            return _snap_to_wall(room, cand, half[r])
+        # half of them straight across, the other half anywhere along that wall the
+        # rule's cone reaches (as far to the side as its force leaves it, 0.6 of the cone,
+        # past the parent's half width: the nearest point of the parent is aimed at)
+        across, _ = _snap_to_wall(room, cand, half[r])
+        ahead = np.maximum(((across - pq) * fq).sum(-1), 0.0)  # (B, k)
+        tan = np.tan(np.radians(np.minimum(0.6 * cone, 80.0)))[:, None]
+        wide = draws.random(k) < 0.5
+        lat = draws.uniform(-1.0, 1.0, k) * (hq[:, None, 0] + ahead * tan)
+        cand = np.where(wide[..., None], across + rq * lat[..., None], cand)
         return _snap_to_wall(room, cand, half[r])
     ang = draws.uniform(-np.pi, np.pi, k)
     dist = radius[q][:, None] * 0.8 + radius[r] + draws.uniform(0.0, spread, k)

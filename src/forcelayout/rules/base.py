@@ -97,6 +97,13 @@ class StartHint:
         ``near_door``); -1 there means any, the nearest. Starts are then
         drawn near that opening only, and a plan whose index names no
         opening is refused.
+    cone : str, optional
+        With ``turn="face_target"``: the name of the rule's parameter that
+        gives the largest angle (degrees) between the object's front and its
+        target (``"max_angle"`` of ``facing``). An object that starts on the
+        wall across the room from its target then starts anywhere its rule
+        allows along that wall, not only straight across (a stove facing the
+        sink of a galley kitchen from within its cone).
     """
 
     place: str | None = None
@@ -105,6 +112,7 @@ class StartHint:
     clear_wall_above_target: bool = False
     reach: str | None = None
     which: str | None = None
+    cone: str | None = None
 
     PLACES: ClassVar[frozenset[str]] = frozenset(
         {"wall", "corner", "middle", "window", "door", "beside", "left", "right", "front",
@@ -123,6 +131,10 @@ class StartHint:
             raise ValueError("StartHint.reach bounds a start near an opening or the middle: "
                              "give it with place='window', 'door' or 'middle', not "
                              f"place={self.place!r}")
+        if self.cone is not None and self.turn != "face_target":
+            raise ValueError("StartHint.cone spreads a start over the angle its target may "
+                             "lie at: give it with turn='face_target', not "
+                             f"turn={self.turn!r}")
         if self.which is not None and self.place not in ("window", "door"):
             raise ValueError("StartHint.which picks one window or door: give it with "
                              f"place='window' or 'door', not place={self.place!r}")
@@ -605,7 +617,7 @@ class Rule:
                             "needs target = 'required' (the object it rests on)")
         if cls.start is not None and not isinstance(cls.start, StartHint):
             raise TypeError(f"{cls.__qualname__}.start must be a StartHint or None")
-        for attr in ("reach", "which"):
+        for attr in ("reach", "which", "cone"):
             named = getattr(cls.start, attr) if cls.start is not None else None
             if named is not None and named not in cls.Params.model_fields:
                 raise TypeError(f"{cls.__qualname__}.start.{attr} names {named!r}, which is "

@@ -200,7 +200,7 @@ class Facing(Rule):
 
     target = "required"
     relation = True
-    start = StartHint(turn="face_target", parent=8)
+    start = StartHint(turn="face_target", parent=8, cone="max_angle")
     weight = 1.5
 
     class Params(Rule.Params):

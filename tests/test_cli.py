@@ -66,6 +66,26 @@ def test_generate_refuses_bad_counts_in_one_line(args, reason, tmp_path):
     assert not (tmp_path / "o").exists()
 
 
+def test_generate_refuses_an_out_that_is_a_file_before_the_plan_warnings(tmp_path):
+    (tmp_path / "afile").write_text("x", encoding="utf-8")
+    proc = subprocess.run([sys.executable, "-m", "forcelayout.cli", "generate", "bedroom",
+                           "-n", "1", "--out", str(tmp_path / "afile")],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert proc.stderr == (f"error: --out {str(tmp_path / 'afile')!r} is a file, not a folder: "
+                           "give a folder for the layouts\n")
+
+
+def test_validate_counts_one_object_and_one_rule_in_the_singular(tmp_path, capsys):
+    one = tmp_path / "one.json"
+    one.write_text(json.dumps({
+        "name": "one", "room": {"polygon": [[0, 0], [3, 0], [3, 3], [0, 3]]},
+        "objects": [{"id": "desk", "category": "desk", "size": [1.2, 0.6, 0.75]}],
+        "rules": [{"rule": "at_wall", "object": "desk"}]}), encoding="utf-8")
+    assert main(["validate", str(one)]) == 0
+    assert capsys.readouterr().out.startswith("plan 'one' is valid: 1 object, 1 rule\n")
+
+
 def test_validate_and_render_fail_on_files_that_are_not_layouts(tmp_path, capsys):
     bogus = tmp_path / "bogus.json"
     bogus.write_text('{"a": 1}', encoding="utf-8")

@@ -387,6 +387,27 @@ def test_text_that_is_not_json_says_where_and_shows_the_line():
                               '"height": 2.5,,')
 
 
+def test_json_on_one_long_line_shows_the_text_where_it_fails():
+    text = '{"name": "x", "description": "' + "a" * 200 + '", "room": {"polygon": "open'
+    with pytest.raises(PlanError) as e:
+        Plan.from_json(text)
+    (p,) = e.value.problems
+    column = text.index('"open') + 1
+    assert p.path == f"line 1, column {column}"
+    assert f"Unterminated string starting at line 1, column {column} (" in p.message
+    shown = p.message.split("the line reads: ")[1]
+    assert shown.startswith("...") and '"polygon": "open' in shown  # not the line's start
+
+
+@pytest.mark.parametrize("data", [[], [{"name": "x"}], "a plan", 3])
+def test_a_plan_that_is_not_one_object_says_so(data):
+    with pytest.raises(PlanError) as e:
+        Plan.from_json(json.dumps(data))
+    (p,) = e.value.problems
+    assert p.message.startswith("a plan is one JSON object (with room, objects and rules), "
+                                f"not a {type(data).__name__}")
+
+
 @pytest.mark.parametrize("text", ["{\n", '{"name": "x",\n\n', "", "   "])
 def test_json_cut_short_or_empty_says_the_text_ends_there(text):
     with pytest.raises(PlanError) as e:

@@ -207,6 +207,22 @@ def test_no_spot_near_a_door_clear_of_its_swing():
     assert not opening_findings(plan([obj("wardrobe", size=(1.2, 0.6, 2.0))], rules, room=room))
 
 
+@pytest.mark.parametrize("doors, windows, rule, missing", [
+    ([], [], "near_door", "door"), ([], [{"wall": 1, "offset": 1.5, "width": 1.0}], "near_door",
+                                    "door"),
+    ([{"wall": 0, "offset": 1.0, "width": 0.9}], [], "near_window", "window")])
+def test_a_room_without_the_opening_a_rule_wants_is_said_to_lack_it(doors, windows, rule,
+                                                                     missing):
+    room = {**ROOM, "doors": doors, "windows": windows}
+    p = plan([obj("desk", size=(1.1, 0.55, 0.75))], [{"rule": rule, "object": "desk"}],
+             room=room)
+    (u,) = out_of_reach(p)
+    assert (u.rule, u.param, u.wider) == (0, "distance", None)
+    assert u.finding.severity == "infeasible"
+    assert u.finding.message == f"{rule}(desk) cannot be met: the room has no {missing}"
+    assert u.finding.fix == f"add one to room.{missing}s or drop rules[0]"
+
+
 def test_window_as_object_narrow_bed_and_huge_bedroom_are_implausible():
     big = {**ROOM, "polygon": [[0, 0], [14, 0], [14, 5], [0, 5]]}
     p = plan([obj("bed_1", "chair", (0.5, 2.0, 0.5)), obj("window_1", "window", (1.2, 0.1, 1.2)),

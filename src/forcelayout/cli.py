@@ -87,7 +87,8 @@ def _cmd_validate(args: argparse.Namespace) -> int:
         prepare(plan)  # what generate refuses before sampling (a wall object with no room)
 
         feas = feasibility(plan)
-        print(f"plan {plan.name!r} is valid: {len(plan.objects)} objects, {len(plan.rules)} rules"
+        print(f"plan {plan.name!r} is valid: {_count_of(len(plan.objects), 'object')}, "
+              f"{_count_of(len(plan.rules), 'rule')}"
               + ("; but no layout can meet it" if not feas.ok
                  else "; tight (see the warnings below)"
                  if feas.verdict == "tight" else ""), flush=True)  # before the warnings
@@ -311,6 +312,11 @@ def _missing(extra: str) -> int:
     print(f"error: this command needs the optional extra: pip install \"forcelayout[{extra}]\"",
           file=sys.stderr)
     return 2
+
+
+def _count_of(n: int, noun: str) -> str:
+    """``"1 rule"``, ``"3 rules"``."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -107,8 +107,24 @@ def _blocked_access(layouts: list[Layout]) -> tuple[int, Counter[str], dict[str,
     return count, objects, by
 
 
+def _output_folder(out: Path, *, make: bool) -> None:
+    """Refuse an ``--out`` that is a file or cannot be made (one ``error:`` line, before
+    the plan's warnings); with ``make``, make it."""
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out {str(out)!r} is a file, not a folder: give a folder for the "
+                         "layouts")
+    if not make:
+        return
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise InputError(f"--out {str(out)!r}: cannot make the folder ({e.strerror}); give "
+                         "a folder you can write to") from e
+
+
 def run_generate(args: argparse.Namespace) -> int:
     """Run the ``generate`` sub-command; returns the exit status."""
+    _output_folder(args.out, make=False)
     plan = _plan_from_args(args)
     if getattr(args, "assets", None) is not None:
         from forcelayout.ground_cmd import ground_for_command
@@ -125,7 +141,7 @@ def run_generate(args: argparse.Namespace) -> int:
         print(f"warning: {note}", file=sys.stderr, flush=True)
     prepare(plan)  # a plan no sample can take is refused before anything is written
     out: Path = args.out
-    out.mkdir(parents=True, exist_ok=True)
+    _output_folder(out, make=True)
     _remove_earlier_run(out, plan.name, args.overwrite)
     (out / "plan.json").write_text(plan.to_json(), encoding="utf-8")
     written: list[Path] = []
@@ -170,8 +186,8 @@ def run_generate(args: argparse.Namespace) -> int:
     (out / "summary.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")
     print(f"{plan.name}: {summary['accepted']}/{args.n} layouts from {summary['attempted']} "
           f"samples in {seconds:.1f} s (of all samples: {summary['valid_fraction']:.0%} "
-          f"passed the checks and rules, {summary['mean_rule_satisfaction']:.0%} of rules "
-          f"met) -> {out}")
+          f"passed the checks with at least {_min_rules(args):.0%} of their rules met; "
+          f"{summary['mean_rule_satisfaction']:.0%} of rules met on average) -> {out}")
     short = sum(lay.report.rule_satisfaction < 1.0 for lay in result.layouts)
     if short:
         unmet = Counter(r.label for lay in result.layouts for r in lay.rule_report()

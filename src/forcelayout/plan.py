@@ -410,11 +410,18 @@ def _json_problem(text: str | bytes) -> Problem:
         json.loads(text)
     except json.JSONDecodeError as e:
         lines = text.splitlines()  # a text cut short fails past its last line
-        line = lines[e.lineno - 1].strip() if e.lineno <= len(lines) else ""
-        shown = line if len(line) <= 80 else line[:77] + "..."
-        where = f"the line reads: {shown}" if line else "the text ends there"
+        line = lines[e.lineno - 1] if e.lineno <= len(lines) else ""
+        if len(line.strip()) <= 80:
+            shown = line.strip()
+        else:  # the 80 characters about the column, on a long line (JSON on one line)
+            start = max(0, min(e.colno - 41, len(line) - 77))
+            shown = (("..." if start else "") + line[start:start + 77].strip()
+                     + ("..." if start + 77 < len(line) else ""))
+        where = f"the line reads: {shown}" if line.strip() else "the text ends there"
+        # "Unterminated string starting at": the message ends where its position was
+        msg = f"{e.msg} line {e.lineno}, column {e.colno}" if e.msg.endswith(" at") else e.msg
         return Problem(f"line {e.lineno}, column {e.colno}",
-                       f"not valid JSON: {e.msg} (a doubled or trailing comma, or a missing "
+                       f"not valid JSON: {msg} (a doubled or trailing comma, or a missing "
                        f"quote or bracket?); {where}")
     return Problem("(the text)", "not valid JSON")
 
@@ -434,6 +441,10 @@ def _plan_error(e: ValidationError) -> PlanError:
                 msg += _did_you_mean(err["loc"][-1], fields).replace(" Did", ". Did", 1)
         elif err["type"] == "missing":
             msg = "required field is missing"
+        elif err["type"] in ("model_type", "dict_type") and not err["loc"]:  # the whole plan
+            kind = type(err.get("input")).__name__
+            msg = (f"a plan is one JSON object (with room, objects and rules), not a {kind}; "
+                   "give one plan per file")
         msg = _unit_hint(err, msg)
         loc = err["loc"]
         if loc[:1] == ("objects",) and "size" in loc[2:]:  # a size of the wrong length or kind

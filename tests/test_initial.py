@@ -276,6 +276,28 @@ def test_a_start_across_the_room_spreads_over_the_cone_its_rule_allows():
     assert np.mean(np.array(off) > 0.6) >= 0.15 and max(off) > 1.0
 
 
+def test_a_child_in_front_of_its_parent_starts_beyond_its_own_zone_towards_it():
+    """An island kept in front of a counter, facing the same way, with 0.9 m of free floor
+    declared behind it: it starts with that much floor between the two (it had started
+    0.1 to 0.4 m off the counter, its zone holding the counter, and stayed there)."""
+    plan = fl.Plan.from_dict({
+        "name": "kitchen", "room": {"polygon": [[0, 0], [6, 0], [6, 4.5], [0, 4.5]],
+                                    "height": 2.6},
+        "objects": [{"id": "counter", "category": "counter", "size": [1.8, 0.62, 0.9]},
+                    {"id": "island", "category": "kitchen_island", "size": [1.8, 0.9, 0.92],
+                     "access": {"sides": ["back"], "depth": 0.9}}],
+        "rules": [{"rule": "at_wall", "object": "counter"},
+                  {"rule": "in_front_of", "object": "island", "target": "counter",
+                   "params": {"distance": 1.3}},
+                  {"rule": "face_same_as", "object": "island", "target": "counter"}]})
+    model = ForceModel(plan)
+    for s in range(20):
+        pos, yaw = propose_poses(model, np.random.default_rng(s))
+        lay = fl.Layout(plan, {oid: fl.Pose(float(p[0]), float(p[1]), float(y))
+                               for oid, p, y in zip(model.ids, pos, yaw, strict=True)})
+        assert 0.9 <= lay.gap("island", "counter") <= 1.3
+
+
 def test_a_start_in_the_middle_spreads_over_the_share_the_rule_allows():
     plan = fl.Plan.from_dict({
         "name": "middle",

@@ -632,6 +632,32 @@ def test_access_check_needs_one_free_side_of_each_object():
         "(0.08 m²))"]
 
 
+@pytest.mark.parametrize("rules, blocked", [
+    ([], ["counter", "island"]),
+    # a rule that keeps its object close lets it stand in its target's zone (the island in
+    # the counter's front), not the target in the object's own (the island's back)
+    ([{"rule": "in_front_of", "object": "island", "target": "counter",
+       "params": {"distance": 1.3}}], ["island"]),
+    ([{"rule": "in_front_of", "object": "counter", "target": "island"}], ["counter"]),
+    # a rule that keeps no closeness lets neither: a bed facing a dresser does not block it
+    ([{"rule": "facing", "object": "island", "target": "counter"}], ["counter", "island"]),
+    ([{"rule": "near", "object": "island", "target": "counter"},
+      {"rule": "near", "object": "counter", "target": "island"}], []),
+])
+def test_only_what_a_rule_keeps_close_may_stand_in_an_access_zone(rules, blocked):
+    plan = Plan.from_dict({
+        "name": "kitchen", "room": {"polygon": [[0, 0], [4, 0], [4, 4], [0, 4]]},
+        "objects": [{"id": "counter", "category": "counter", "size": [1.8, 0.6, 0.9]},
+                    {"id": "island", "category": "kitchen_island", "size": [1.8, 0.9, 0.9],
+                     "access": {"sides": ["back"], "depth": 0.9}}],
+        "rules": rules})
+    # the counter's back to the wall y = 0, its front zone y 0.6..1.2; the island 0.3 m in
+    # front of it, facing the same way: its back zone (y 0.9..1.8) holds the counter's front
+    lay = Layout(plan, {"counter": Pose(2.0, 0.3, 0.0), "island": Pose(2.0, 1.35, 0.0)})
+    lines = check_layout(lay, access_clearance=True).by_check().get("access", [])
+    assert sorted(f.split("'")[1] for f in lines) == blocked
+
+
 @pytest.mark.parametrize("width, blocked", [(0.6, False), (0.8, False), (1.0, True), (2.0, True)])
 def test_an_access_zone_is_free_where_a_stretch_a_person_wide_is(width, blocked):
     # a box in the middle of the bed's free side leaves 0.7 m at either end of it; a stretch

@@ -148,7 +148,7 @@ class AccessTerm:
     depth : ndarray, shape (Z,)
         Depth of each zone, metres.
     exempt : ndarray of bool, shape (Z, N)
-        Rows a zone does not push (its owner, objects related to it, covers).
+        Rows a zone does not push (its owner, the objects a rule keeps close to it, covers).
     strength : float
         Force per metre of intrusion (capped at ``1.5 * strength / 10``).
     """
@@ -229,7 +229,8 @@ def access_zones(plan_objects: dict[str, SceneObject], ids: Sequence[str],
     walkable : ndarray of bool, shape (N,)
         Walkable covers: they own no zone and block none.
     related : ndarray of bool, shape (N, N)
-        Pairs a rule relates: they do not block each other's zones.
+        ``[owner, other]``: ``other`` does not block ``owner``'s zones
+        (:func:`related_pairs`).
 
     Returns
     -------
@@ -277,7 +278,7 @@ class AccessZones:
         The zone's side in its owner's frame (``(0, 1)`` is the front).
     depth : ndarray, shape (Z,)
     exempt : ndarray of bool, shape (Z, N)
-        Rows that do not block the zone (its owner, objects related to it, covers).
+        Rows that do not block the zone (its owner, the objects a rule keeps close to it, covers).
     sides : tuple of str
         The side name of each zone (``"front"``, ``"left"``, ...).
     """
@@ -290,7 +291,15 @@ class AccessZones:
 
 
 def related_pairs(ids: Sequence[str], bindings: Sequence[Binding]) -> np.ndarray:
-    """Which rows a rule relates (either way round): they do not block each other's zones.
+    """Which rows may stand in which rows' access zones: ``[owner, other]``.
+
+    A rule that keeps its object close to its target (``closeness="close"``:
+    ``next_to``, ``near``, ``in_front_of``, ``around``, ...) lets the object
+    stand in the target's zones (the chair at the desk, the nightstand at the
+    head of the bed), not the target in the object's (an island kept in front
+    of a counter still needs its own zone free of the counter). A rule that
+    keeps no closeness (``facing``, ``aligned_with``) lets neither: a dresser
+    that a bed faces does not block the bed's side.
 
     Parameters
     ----------
@@ -305,8 +314,8 @@ def related_pairs(ids: Sequence[str], bindings: Sequence[Binding]) -> np.ndarray
     row = {oid: k for k, oid in enumerate(ids)}
     related = np.zeros((len(ids), len(ids)), dtype=bool)
     for b in bindings:
-        if b.object in row and b.target in row:
-            related[row[b.object], row[b.target]] = related[row[b.target], row[b.object]] = True
+        if b.object in row and b.target in row and b.rule.closeness == "close":
+            related[row[b.target], row[b.object]] = True
     return related
 
 

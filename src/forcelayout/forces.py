@@ -34,7 +34,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from forcelayout.access import AccessTerm, access_term
+from forcelayout.access import AccessTerm, access_term, related_pairs
 from forcelayout.bindings import Binding, CompiledPlan, RuleGroup, compile_plan, group_bindings
 from forcelayout.clearance import WindowTerm
 from forcelayout.geometry import RoomGeometry, corners_from_axes
@@ -388,7 +388,8 @@ class ForceModel:
         if self.room is self.compiled.room and self.plan.room.windows and w_window > 0:
             self.terms.append(self._window_term(w_window))
         if self.physical_weights.access > 0:  # free floor in front of wardrobes, desks, ...
-            acc = access_term(objects, self.ids, self.bindings, self.walkable, related)
+            acc = access_term(objects, self.ids, self.bindings, self.walkable,
+                              related_pairs(self.ids, self.bindings))
             if acc is not None:
                 acc.strength *= self.physical_weights.access
                 self.terms.append(acc)

@@ -85,6 +85,10 @@ class _Wants:
     # per target row it is turned towards, the largest angle its rule lets the target lie
     # off its front (StartHint.cone), degrees
     cones: dict[int, float] = field(default_factory=dict)
+    # standing in front of or behind its parent: the depth of its own access zone on its
+    # side towards the parent (an island in front of a counter, its back zone towards it),
+    # metres; the start keeps that much floor between the two
+    own_gap: float = 0.0
     # the wall objects (ids) it is turned towards by a rule (a beanbag facing the TV on the
     # wall): they are hung after the floor settles, where they meet the most such rules
     views: set[str] = field(default_factory=set)
@@ -433,6 +437,20 @@ def _back_access(access: AccessTerm | None, n: int) -> np.ndarray:
     return out
 
 
+def _own_gaps(access: AccessTerm | None, parent: np.ndarray, wants: list[_Wants]) -> None:
+    """Set ``own_gap`` of each row that starts in front of or behind its parent: the
+    depth of its access zone on its side towards the parent (its front where it turns
+    to face the parent, else its back in front of the parent and its front behind it)."""
+    if access is None:
+        return
+    for c, w in enumerate(wants):
+        if parent[c] < 0 or not w.places & {"front", "back"}:
+            continue
+        towards = 1.0 if "face_target" in w.turns or "back" in w.places else -1.0
+        mine = (access.owner == c) & (access.direction[:, 1] * towards > 0.5)
+        w.own_gap = float(access.depth[mine].max()) if mine.any() else 0.0
+
+
 def _corner_candidates(
     room, draws: _Draws, k: int, half: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray] | None:
@@ -482,7 +500,7 @@ def _child_candidates(room, draws: _Draws, k, wants: _Wants, q: np.ndarray, r, p
         return pq + draws.normal(0.05, (k, 2)), same
     if places & {"front", "back"}:
         sign = -1.0 if "back" in places else 1.0
-        dist = hq[:, 1:2] + half[r, 1] + draws.uniform(0.1, 0.1 + spread, k)
+        dist = hq[:, 1:2] + half[r, 1] + wants.own_gap + draws.uniform(0.1, 0.1 + spread, k)
         # centred, or anywhere along the parent's width (three stools at one island)
         reach = np.maximum(hq[:, 0] - half[r, 0], 0.0)[:, None]
         centred = draws.random(k) < 0.5
@@ -1196,11 +1214,13 @@ class _Placer:
         # and, side by side, beyond them for their access zones behind them (room to pull
         # a chair out): how deep, and how wide a chair is with room beside it
         behind, zoned, seat = _back_access(self.access, n), np.zeros(n), np.zeros(n)
+        _own_gaps(self.access, parent, wants)
         for c in range(n):
             # (a walkable cover in front, the mat at a shower, keeps no floor free: it may
             # lie in a door's swing and furniture may stand on it)
             if parent[c] >= 0 and "front" in wants[c].places and not model.walkable[c]:
-                front[parent[c]] = max(front[parent[c]], model.size[c, 1] + 0.15)
+                front[parent[c]] = max(front[parent[c]],
+                                       model.size[c, 1] + 0.15 + wants[c].own_gap)
                 front_width[parent[c]] = max(front_width[parent[c]], model.size[c, 0] + 0.1)
                 n_front[parent[c]] += 1
             if parent[c] >= 0 and "all_round" in wants[c].places:
@@ -1274,8 +1294,8 @@ class _Placer:
         free: placed objects whose last free zone it stands in, and ``r`` itself when every
         one of its zones there runs off the floor or into a placed object (the ``solid``
         rows, those ``present`` (B, S) marks in each sample). A zone is free of what
-        :class:`~forcelayout.access.AccessTerm` does not push (the owner's related
-        objects, covers). Shape (B, K)."""
+        :class:`~forcelayout.access.AccessTerm` does not push (the objects a rule keeps
+        close to the owner, covers). Shape (B, K)."""
         acc, half = self.access, self.half
         misses = np.zeros(cand.shape[:2])
         if acc is None or self.walkable[r] or not (len(solid) or (acc.owner == r).any()):

@@ -138,6 +138,21 @@ def test_a_label_over_another_moves_down_a_line():
     assert at["bed"] == pytest.approx((0.7, 2.9))
 
 
+def test_a_label_at_the_bottom_wall_moves_up_not_out_of_the_room():
+    """A vase on a sideboard against the bottom wall: its label would have moved down below
+    the wall, out of the room; it moves up a line instead."""
+    plan = Plan.model_validate({
+        "name": "dining", "room": {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]]},
+        "objects": [{"id": "sideboard", "category": "sideboard", "size": [1.6, 0.45, 0.85]},
+                    {"id": "vase", "category": "vase", "size": [0.2, 0.2, 0.4]}],
+        "rules": [{"rule": "on_top", "object": "vase", "target": "sideboard"}]})
+    lay = Layout(plan, {"sideboard": Pose(2.0, 0.225, 0.0),
+                        "vase": Pose(2.1, 0.225, 0.0, 0.85, "top:sideboard")})
+    at = {t.get_text(): t.get_position() for t in draw_layout(lay).axes[0].texts}
+    assert at["sideboard"] == pytest.approx((2.0, 0.225))
+    assert at["vase"][1] == pytest.approx(0.225 + 0.11)
+
+
 def test_draw_into_a_given_axes():
     fig = Figure()
     ax = fig.add_subplot(1, 2, 2)

@@ -127,6 +127,26 @@ def test_a_plan_whose_rules_conflict_is_told_the_fix_not_to_loosen_the_room():
     assert "keep one of rules[2] and rules[3]" in hint and "larger room" not in hint
 
 
+def test_a_plan_with_few_distinct_layouts_is_told_so_not_to_draw_more_samples():
+    """A cabinet in a corner of a closet with one door: a few corners, each one layout;
+    more samples repeat them (the hint had asked for 624, then for 4,868)."""
+    plan = {"name": "closet",
+            "room": {"polygon": [[0, 0], [1.6, 0], [1.6, 1.6], [0, 1.6]], "height": 2.4,
+                     "doors": [{"wall": 0, "offset": 0.5, "width": 0.7}]},
+            "objects": [{"id": "cabinet", "category": "cabinet", "size": [0.6, 0.6, 1.8]}],
+            "rules": [{"rule": "in_corner", "object": "cabinet"}]}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fl.generate(plan, 20, seed=0, max_attempts=60)
+    k = len(res)
+    assert 0 < k < 6
+    hint = res.hint()
+    assert f"samples repeat one of the {k} accepted, so the plan seems to allow about {k} " \
+        "distinct layouts" in hint
+    assert "or lower distinct_tol, not more samples" in hint and "max_attempts" not in hint
+    assert "distinct_tol" not in res.hint(cli=True)
+
+
 def test_samples_short_of_their_rules_alone_are_told_the_share_that_would_take_them():
     """A sofa facing a TV stand that should face the same way as the sofa: no start meets
     both, the checks all pass; the hint gives the share of rules the samples met, not more

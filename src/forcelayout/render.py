@@ -140,6 +140,7 @@ def _draw_objects(ax: Axes, layout: Layout, labels: bool, failing: set[str]
             ax.text(at[0], at[1], oid, fontsize=5.5, ha="center", va="center", zorder=10,
                     color="#555555", style="italic")
     placed: list[np.ndarray] = []  # where the labels so far stand
+    ymin, ymax = float(layout.room.bounds[1]), float(layout.room.bounds[3])
     for oid in ids:
         if oid in covers:
             continue
@@ -161,7 +162,7 @@ def _draw_objects(ax: Axes, layout: Layout, labels: bool, failing: set[str]
             ax.plot(c[2:4, 0], c[2:4, 1], color=edge, lw=2.6, solid_capstyle="butt",
                     zorder=z + 0.1)
         if labels:
-            centre = _label_spot(c.mean(0), placed)
+            centre = _label_spot(c.mean(0), placed, (ymin, ymax))
             ax.text(centre[0], centre[1], oid, fontsize=6, ha="center", va="center",
                     zorder=10, color="#111111",
                     style="italic" if kind != "floor" else "normal")
@@ -174,16 +175,22 @@ def _draw_objects(ax: Axes, layout: Layout, labels: bool, failing: set[str]
 _LABEL_ROOM = (0.45, 0.11)
 
 
-def _label_spot(centre: np.ndarray, placed: list[np.ndarray]) -> np.ndarray:
+def _label_spot(centre: np.ndarray, placed: list[np.ndarray],
+                bounds: tuple[float, float] = (-np.inf, np.inf)) -> np.ndarray:
     """Where an object's label goes: its centre, moved down a line at a time (at most four)
-    while it would stand on a label drawn before (a pendant's over its table's); the spot
-    is kept in ``placed``."""
-    at = np.array(centre, dtype=float)
-    for _ in range(4):
-        if not any(abs(at[0] - p[0]) < _LABEL_ROOM[0] and abs(at[1] - p[1]) < _LABEL_ROOM[1]
-                   for p in placed):
+    while it would stand on a label drawn before (a pendant's over its table's), or up where
+    down leaves the room's ``bounds`` (lowest, highest y: a vase on a sideboard at the
+    bottom wall); the spot is kept in ``placed``."""
+    base = np.array(centre, dtype=float)
+    lo, hi = bounds[0] + 0.5 * _LABEL_ROOM[1], bounds[1] - 0.5 * _LABEL_ROOM[1]
+    steps = [0, -1, -2, -3, -4] if base[1] - 4 * _LABEL_ROOM[1] >= lo else [0, 1, 2, 3, 4]
+    at = base
+    for k in steps:
+        at = base + np.array([0.0, k * _LABEL_ROOM[1]])
+        if not any(abs(at[0] - p[0]) < _LABEL_ROOM[0] - 1e-9
+                   and abs(at[1] - p[1]) < _LABEL_ROOM[1] - 1e-9
+                   for p in placed) and lo <= at[1] <= hi or k == steps[-1]:
             break
-        at[1] -= _LABEL_ROOM[1]
     placed.append(at)
     return at
 

@@ -353,6 +353,13 @@ class Generation:
             todo = (f"{count} of {tried} samples passed every check and met {share:.0%} of "
                     f"the rules or more: {flag} accepts such samples; or loosen the rule "
                     "named, since more samples seldom meet them all")
+        elif k > 0 and (dup := self._duplicates()) >= max(0.5 * tried, 4 * k):
+            # most valid samples repeat the few layouts the plan allows: more samples repeat
+            # them again
+            todo = (f"{dup} of {tried} samples repeat one of the {k} accepted, so the plan "
+                    f"seems to allow about {k} distinct layouts: loosen it (fewer wall or "
+                    "corner rules, a larger room) for more"
+                    + ("" if cli else ", or lower distinct_tol") + ", not more samples")
         elif k > 0:
             more = tried + math.ceil((n - k) * tried / k * 1.2)
             todo = f"try {attempts(more)} (about {k / tried:.0%} of samples are accepted)"
@@ -361,6 +368,10 @@ class Generation:
         line = (f"only {k} of {n} layouts of plan {self.plan.name!r} from {tried} samples: "
                 f"{self._cause()}; {todo}")
         return " ".join(line.split())  # one line whatever the failure messages hold
+
+    def _duplicates(self) -> int:
+        """How many samples were valid but repeated an accepted layout."""
+        return sum(DistinctLayouts.FAILURE in r.failures for r in self.rejected)
 
     def _short_of_rules(self, wanted: int) -> tuple[int, float] | None:
         """How many rejected samples failed for their rules alone, and the share of rules

@@ -11,6 +11,7 @@ from forcelayout.errors import UnknownRuleError
 from forcelayout.rules import Rule, register, unregister
 
 BUILTIN = ["at_wall", "in_corner", "in_middle", "near_window", "near_door", "away_from_door",
+           "away_from_window",
            "next_to", "near", "far_from", "facing", "in_front_of", "behind", "left_of",
            "right_of", "aligned_with", "around", "face_same_as", "on_top", "on_wall",
            "on_wall_mid", "above", "on_ceiling"]

@@ -163,9 +163,27 @@ def test_away_from_door_pushes_away_from_the_door():
     assert ok[0]
 
 
+def test_away_from_window_slides_out_of_the_zone_in_front_of_it():
+    # the window is 1.2 m wide, centred at (2, 3.5) on the top wall: its zone is x 1.4..2.6,
+    # y 3.0..3.5; a low stand against that wall, a little right of the window's centre
+    f, tau, ok, _ = run("away_from_window", [[2.2, 3.3]], [np.pi], [[1.0, 0.4]])
+    assert not ok[0] and f[0, 0] > 0 and f[0, 1] == pytest.approx(0.0) and tau[0] == 0.0
+    f, _, ok, _ = run("away_from_window", [[1.7, 3.3]], [np.pi], [[1.0, 0.4]])
+    assert not ok[0] and f[0, 0] < 0  # left of the centre: out by the left end
+    _, _, ok, _ = run("away_from_window", [[3.2, 3.3]], [np.pi], [[1.0, 0.4]])  # beside it
+    assert ok[0]
+    _, _, ok, _ = run("away_from_window", [[2.0, 2.7]], [np.pi], [[1.0, 0.4]])  # 0.6 m off
+    assert ok[0]
+    _, _, ok, _ = run("away_from_window", [[2.0, 2.7]], [np.pi], [[1.0, 0.4]], distance=0.9)
+    assert not ok[0]
+    _, _, ok, _ = run("away_from_window", [[2.0, 3.3]], [np.pi], [[1.0, 0.4]],
+                      room=NO_OPENINGS)
+    assert ok[0]
+
+
 def test_unary_forces_are_clipped():
     for name in ["at_wall", "in_corner", "in_middle", "near_window", "near_door",
-                 "away_from_door"]:
+                 "away_from_door", "away_from_window"]:
         f, tau, _, w = run(name, [[-50.0, 80.0], [1.0, 0.0]], [3.0, 0.0], [[0.6, 0.6]] * 2)
         assert np.all(np.isfinite(f)) and np.all(np.isfinite(tau))
         assert np.all(np.hypot(f[:, 0], f[:, 1]) <= 3.0 * w), name
@@ -188,7 +206,8 @@ OBJECTS = [{"id": "table", "category": "table", "size": [1.2, 0.8, 0.75]},
            {"id": "chair", "category": "chair", "size": [0.5, 0.5, 0.9]},
            {"id": "shelf", "category": "shelf", "size": [0.8, 0.35, 1.8]}]
 CASES = {"at_wall": "shelf", "in_corner": "shelf", "in_middle": "table",
-         "near_window": "chair", "near_door": "shelf", "away_from_door": "table"}
+         "near_window": "chair", "near_door": "shelf", "away_from_door": "table",
+         "away_from_window": "shelf"}
 
 
 @pytest.mark.parametrize("name", sorted(CASES))

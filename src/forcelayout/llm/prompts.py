@@ -249,6 +249,7 @@ def vocabulary(pattern: str = "*") -> list[RuleInfo]:
 RULE_EXAMPLES = {
     "at_wall": ("wardrobe",), "in_corner": ("bookshelf",), "in_middle": ("coffee_table",),
     "near_door": ("coat_rack",), "away_from_door": ("bed",), "near_window": ("desk",),
+    "away_from_window": ("tv_stand",),
     "next_to": ("nightstand_1", "bed"), "near": ("armchair", "bookshelf"),
     "far_from": ("bed", "desk"), "facing": ("sofa", "tv_stand"),
     "in_front_of": ("coffee_table", "sofa"), "behind": ("console_table", "sofa"),

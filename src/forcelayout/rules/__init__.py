@@ -84,6 +84,7 @@ _BUILTIN = {
         ("near_window", "NearWindow"),
         ("near_door", "NearDoor"),
         ("away_from_door", "AwayFromDoor"),
+        ("away_from_window", "AwayFromWindow"),
     ],
     "forcelayout.rules.binary": [
         ("next_to", "NextTo"),

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 from pydantic import Field
 
+from forcelayout import geometry as geo
 from forcelayout.rules.base import ParamArrays, Rule, StartHint, State
 from forcelayout.rules.shaping import (
     CAP,
@@ -27,7 +28,8 @@ from forcelayout.rules.shaping import (
     unit,
 )
 
-__all__ = ["AtWall", "InCorner", "InMiddle", "NearWindow", "NearDoor", "AwayFromDoor"]
+__all__ = ["AtWall", "InCorner", "InMiddle", "NearWindow", "NearDoor", "AwayFromDoor",
+           "AwayFromWindow"]
 
 def _wall_pull(state: State, i: np.ndarray, wall: np.ndarray, w: np.ndarray,
                inside: float = 0.005) -> np.ndarray:
@@ -337,3 +339,64 @@ class AwayFromDoor(Rule):
             return np.ones(len(i), dtype=bool)
         d = state.pos[i, None, :] - doors.centre[None, :, :]
         return np.sqrt((d * d).sum(2)).min(axis=1) >= p.distance
+
+
+class AwayFromWindow(Rule):
+    """Out of the zone in front of every window: its footprint clear of a box as wide as
+    the window and `distance` metres deep into the room.
+
+    The ``window`` check keeps that zone free of objects taller than the sill;
+    this rule keeps its object out of it whatever its height: a low stand a TV
+    stands on, a dresser under a mirror, a desk whose lamp would stand in the
+    light. Always satisfied in a room without windows. The force slides the
+    object along the window's wall, out of the zone by the nearer side.
+    """
+
+    opposite = "near_window"
+    feature = "window"
+    specialises = ("far_from",)
+
+    weight = 1.5
+
+    class Params(Rule.Params):
+        distance: float = Field(0.5, gt=0,
+                                description="Depth of the zone in front of each window, m "
+                                            "(the window check's zone is 0.5 m deep).")
+
+    batched = True  # relates rows through i, j and per-sample pairs only
+
+    @staticmethod
+    def _zones(state: State, i: np.ndarray, p: ParamArrays
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """Each window's zone against each binding's footprint: the clearance (K, B),
+        metres (negative inside), and the object's offset along the window's wall from
+        its centre (K, B); None without windows."""
+        w = state.room.windows
+        if len(w) == 0:
+            return None
+        centre = w.centre[:, None, :] + w.normal[:, None, :] * (0.5 * p.distance)[None, :, None]
+        half = np.stack(np.broadcast_arrays(0.5 * w.width[:, None], 0.5 * p.distance[None, :]),
+                        axis=2)  # (K, B, 2)
+        d = state.pos[i][None, :, :] - centre
+        sep = geo.obb_separation(d, w.tangent[:, None, :], w.normal[:, None, :], half,
+                                 state.right[i][None], state.front[i][None],
+                                 state.half[i][None])
+        return sep, (d * w.tangent[:, None, :]).sum(2)
+
+    def force(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
+        b = len(i)
+        z = self._zones(state, i, p)
+        if z is None:
+            return np.zeros((b, 2)), np.zeros(b)
+        sep, along = z
+        # from 5 cm before the zone (the rules lean on it), along the wall: out by the
+        # nearer end of the window
+        push = ramp(0.05 - sep) * np.where(along < 0.0, -1.0, 1.0)  # (K, B)
+        f = (push[:, :, None] * state.room.windows.tangent[:, None, :]).sum(0)
+        return f * p.weight[:, None], np.zeros(b)
+
+    def satisfied(self, state: State, i: np.ndarray, j: np.ndarray | None, p: ParamArrays):
+        z = self._zones(state, i, p)
+        if z is None:
+            return np.ones(len(i), dtype=bool)
+        return (z[0] >= -1e-6).all(axis=0)

@@ -352,7 +352,6 @@ class AwayFromWindow(Rule):
     object along the window's wall, out of the zone by the nearer side.
     """
 
-    opposite = "near_window"
     feature = "window"
     specialises = ("far_from",)
 
@@ -367,7 +366,7 @@ class AwayFromWindow(Rule):
 
     @staticmethod
     def _zones(state: State, i: np.ndarray, p: ParamArrays
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+               ) -> tuple[np.ndarray, np.ndarray] | None:
         """Each window's zone against each binding's footprint: the clearance (K, B),
         metres (negative inside), and the object's offset along the window's wall from
         its centre (K, B); None without windows."""

@@ -40,9 +40,9 @@ from forcelayout.rules.base import Access, State, stacked_rows
 if TYPE_CHECKING:
     from forcelayout.layout import Layout
 
-__all__ = ["CATEGORY_ACCESS", "access_of", "access_zones", "AccessZones", "zone_boxes",
-           "related_pairs", "layout_zones", "ZoneState", "zone_states", "blocked_objects",
-           "AccessTerm", "access_term"]
+__all__ = ["CATEGORY_ACCESS", "NO_ACCESS_WORDS", "access_of", "access_zones", "AccessZones",
+           "zone_boxes", "related_pairs", "layout_zones", "ZoneState", "zone_states",
+           "blocked_objects", "AccessTerm", "access_term"]
 
 _FRONT = ("front",)
 _LONG_SIDES = ("left", "right")  # of a footprint deeper than wide, as a bed's is
@@ -63,6 +63,11 @@ CATEGORY_ACCESS: dict[str, Access] = {
         "shelves", "shelving", "sofa", "couch", "loveseat", "sectional", "toilet", "piano",
         "locker", "pantry", "hutch")},
 }
+
+#: Category words of things used from above or carried, that need no free side whatever
+#: word before them says (a ``laundry_basket`` is no laundry machine, a ``kitchen_bin`` no
+#: kitchen counter).
+NO_ACCESS_WORDS = frozenset({"basket", "hamper", "bin", "can", "bag", "mat"})
 
 _DIRS = {"front": (0.0, 1.0), "back": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
 
@@ -93,6 +98,8 @@ def access_of(obj: SceneObject, bindings: Sequence[Binding] = ()) -> Access | No
         if b.object == obj.id and b.rule.access is not None:
             return b.rule.access
     for word in reversed(re.split(r"[^a-z0-9]+", obj.category.lower())):
+        if word in NO_ACCESS_WORDS:
+            return None
         if word in CATEGORY_ACCESS:
             acc = CATEGORY_ACCESS[word]
             if acc.sides == _LONG_SIDES and obj.size[0] > obj.size[1]:

@@ -86,6 +86,15 @@ def test_validate_counts_one_object_and_one_rule_in_the_singular(tmp_path, capsy
     assert capsys.readouterr().out.startswith("plan 'one' is valid: 1 object, 1 rule\n")
 
 
+def test_a_layout_file_missing_a_coordinate_says_which(tmp_path, capsys):
+    lay = tmp_path / "lay.json"
+    lay.write_text(json.dumps({"objects": {"bed": {"x": 1.0, "yaw": 0.0}}}), encoding="utf-8")
+    assert main(["validate", "bedroom", str(lay)]) == 1
+    err = capsys.readouterr().err
+    assert "not a layout of plan 'bedroom': objects.bed has no 'y': each pose needs 'x', 'y' " \
+        "and 'yaw'" in err
+
+
 def test_validate_and_render_fail_on_files_that_are_not_layouts(tmp_path, capsys):
     bogus = tmp_path / "bogus.json"
     bogus.write_text('{"a": 1}', encoding="utf-8")

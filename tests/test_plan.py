@@ -105,6 +105,16 @@ def test_an_unknown_object_sharing_only_a_word_is_not_taken_for_it():
                          for m in found)
 
 
+def test_an_unknown_object_as_close_to_two_ids_names_both():
+    data = {"name": "beds", "room": {"polygon": [[0, 0], [4, 0], [4, 4], [0, 4]]},
+            "objects": [{"id": i, "category": "nightstand", "size": [0.45, 0.4, 0.55]}
+                        for i in ("nightstand_r", "nightstand_l")],
+            "rules": [{"rule": "at_wall", "object": "nightstand_1"}]}
+    (p,) = problems(data)
+    assert p.message == ("unknown object 'nightstand_1'. Did you mean 'nightstand_l' or "
+                         "'nightstand_r'?")
+
+
 def test_all_problems_reported_at_once():
     data = plan_with(rules__0__rule="nope", rules__1__object="ghost")
     data["room"]["doors"][0]["wall"] = 9

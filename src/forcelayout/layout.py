@@ -257,9 +257,19 @@ class Layout:
         unknown = set(data.get("objects", {})) - set(plan.ids)
         if unknown:
             raise ValueError(f"layout objects {sorted(unknown)} are not in plan {plan.name!r}")
-        poses = {oid: Pose(float(p["x"]), float(p["y"]), float(p["yaw"]),
-                           float(p.get("z", 0.0)), str(p.get("surface", "floor")))
-                 for oid, p in data["objects"].items()}
+        poses = {}
+        for oid, p in data["objects"].items():
+            missing = [k for k in ("x", "y", "yaw") if not isinstance(p, dict) or k not in p]
+            if missing:
+                raise ValueError(f"objects.{oid} has no {', '.join(map(repr, missing))}: each "
+                                 "pose needs 'x', 'y' and 'yaw' (as written by Layout.save)")
+            try:
+                poses[oid] = Pose(float(p["x"]), float(p["y"]), float(p["yaw"]),
+                                  float(p.get("z", 0.0)), str(p.get("surface", "floor")))
+            except (TypeError, ValueError):
+                raise ValueError(f"objects.{oid}: 'x', 'y', 'yaw' and 'z' are numbers, got "
+                                 f"{ {k: p.get(k) for k in ('x', 'y', 'yaw', 'z') if k in p} }"
+                                 ) from None
         rep = data.get("report")
         report = SampleReport(**rep) if isinstance(rep, dict) else None
         return cls(plan, poses, int(data.get("seed", 0)), report)

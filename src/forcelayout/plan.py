@@ -498,8 +498,18 @@ def _fields_at(loc: tuple) -> list[str]:
 
 
 def _did_you_mean(name: str, options: list[str]) -> str:
-    close = difflib.get_close_matches(name, options, n=1, cutoff=0.6)
-    return f" Did you mean {close[0]!r}?" if close else ""
+    """`` Did you mean 'x'?`` for the closest option, or for each of up to three that are
+    as close (``nightstand_1`` for ``nightstand_l`` and ``nightstand_r``); "" for none."""
+    close = difflib.get_close_matches(name, options, n=3, cutoff=0.6)
+    if not close:
+        return ""
+
+    def ratio(option: str) -> float:
+        return difflib.SequenceMatcher(None, name, option).ratio()
+
+    best = ratio(close[0])
+    tied = sorted(c for c in close if ratio(c) >= best - 1e-9)
+    return f" Did you mean {' or '.join(repr(c) for c in tied)}?"
 
 
 def _which_id(name: str, ids: list[str]) -> str:

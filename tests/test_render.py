@@ -213,6 +213,10 @@ def test_access_zones_are_drawn_and_red_where_the_check_finds_none_free():
     free = zones(layout(chair=Pose(1.8, 0.5, 0.0)))
     assert tuple(free["access:desk:front"].get_edgecolor()[:3]) != pytest.approx(red)
     assert "access zone" in layout_svg(layout(), show_access=True)
+    # a contact sheet draws them too, and its ✓ / ✗ counts the access check
+    fig = draw_many([layout(), layout(chair=Pose(1.8, 0.5, 0.0))], cols=2, show_access=True)
+    assert [a.get_title()[-1] for a in fig.axes] == ["✗", "✓"]
+    assert any((p.get_gid() or "").startswith("access:") for p in fig.axes[0].patches)
     # red also where the picture lists no failures (check=False): the zones run the check
     fig = draw_layout(layout(), show_access=True, check=False)
     (desk,) = [p for p in fig.axes[0].patches if p.get_gid() == "access:desk:front"]

@@ -537,6 +537,8 @@ def test_window_zones_geometry():
     np.testing.assert_allclose(front, [[0.0, -1.0]], atol=1e-12)  # into the room
     np.testing.assert_allclose(half, [[0.6, 0.25]])
     assert sill.tolist() == [0.9]
+    with pytest.raises(TypeError, match=r"layout\.plan\.room"):  # the geometry has no sills
+        window_zones(window_room().room)
 
 
 # -- random plans ---------------------------------------------------------------------------

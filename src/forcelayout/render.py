@@ -444,6 +444,7 @@ def draw_many(
     labels: bool = False,
     show_free_space: bool = False,
     check: bool = True,
+    show_access: bool = False,
 ) -> Figure:
     """A contact sheet: several layouts side by side.
 
@@ -455,10 +456,11 @@ def draw_many(
         Write the sheet there (``.png``, ``.svg`` or ``.pdf``).
     cols : int
         Layouts per row (default 4).
-    labels, show_free_space, check : bool
+    labels, show_free_space, check, show_access : bool
         As in :func:`draw_layout` (labels off by default to keep cells legible).
         Each title ends with ✓ or ✗: the checks' verdict when ``check`` is
-        True, else the layout's own ``report.valid``.
+        True (the ``access`` check too with ``show_access``), else the layout's
+        own ``report.valid``.
 
     Returns
     -------
@@ -481,12 +483,13 @@ def draw_many(
         if check:
             from forcelayout.validate import check_layout
 
-            valid = check_layout(lay).ok
+            valid = check_layout(lay, access_clearance=show_access).ok
         else:
             valid = lay.report.valid
         status = " ✓" if valid else " ✗"
         draw_layout(lay, ax=ax, labels=labels, show_free_space=show_free_space, check=check,
-                    list_failures=False, title=f"{lay.plan.name} · seed {lay.seed}{status}")
+                    list_failures=False, title=f"{lay.plan.name} · seed {lay.seed}{status}",
+                    show_access=show_access)
         legend = ax.get_legend()
         if legend is not None:
             legend.remove()

@@ -633,7 +633,16 @@ def window_zones(room: Room) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.nda
         and half extents (half width, half depth) of each zone, metres.
     sill : ndarray, shape (K,)
         Sill height of each window above the floor, metres.
+
+    Raises
+    ------
+    TypeError
+        For a :class:`~forcelayout.geometry.RoomGeometry` (``layout.room``), which
+        holds no sills: pass ``layout.plan.room``.
     """
+    if isinstance(room, RoomGeometry):
+        raise TypeError("window_zones takes the plan's room (layout.plan.room), with the "
+                        "windows' sills and clearances, not its geometry (layout.room)")
     return _window_zones(RoomGeometry.from_room(room), room.windows)
 
 

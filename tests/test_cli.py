@@ -183,7 +183,10 @@ def test_bad_plan_gives_a_clear_error(tmp_path, capsys):
 
 def test_missing_plan_file(tmp_path, capsys):
     assert main(["validate", str(tmp_path / "nope.json")]) == 2
-    assert "no plan file" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "no plan file" in err and "did you mean" not in err
+    assert main(["validate", "bedrom"]) == 2  # a bundled plan's name, mistyped
+    assert "no plan file 'bedrom' (did you mean 'bedroom'?)" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("module", ["forcelayout.cli", "forcelayout"])

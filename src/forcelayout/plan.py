@@ -640,7 +640,8 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
                  if max(o.size) >= _UNIT_SLIP else "")
         if min(w, d) > short_side + 1e-9 or max(w, d) > long_side + 1e-9 or w * d > poly.area:
             yield Problem(f"objects[{k}].size", f"{o.id!r} ({w:g} x {d:g} m) is larger than the "
-                          f"room ({long_side:.2f} x {short_side:.2f} m); shrink it or the plan"
+                          f"room ({short_side:.2f} x {long_side:.2f} m at its narrowest "
+                          "and longest); shrink it or the plan"
                           + units)
         if h > room.height + 1e-9:
             yield Problem(f"objects[{k}].size", f"{o.id!r} is {h:g} m tall but the ceiling is at "

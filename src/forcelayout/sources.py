@@ -9,6 +9,7 @@ Examples
 
 from __future__ import annotations
 
+import difflib
 from pathlib import Path
 from typing import Any
 
@@ -50,7 +51,9 @@ def load_plan(source: str | Path | dict[str, Any] | Plan) -> Plan:
         return Plan.load(path)
     if text in examples.list_plans():
         return examples.load_example(text)
+    close = difflib.get_close_matches(text, examples.list_plans(), n=1, cutoff=0.75)
+    meant = f" (did you mean {close[0]!r}?)" if close else ""
     raise FileNotFoundError(
-        f"no plan file {text!r}; give a path to a plan JSON or one of the bundled "
+        f"no plan file {text!r}{meant}; give a path to a plan JSON or one of the bundled "
         f"plans {examples.list_plans()}"
     )

@@ -370,6 +370,12 @@ def test_generate_access_draws_the_access_zones(tmp_path):
     (layout,) = (tmp_path / "out0").glob("*_000.json")
     assert main(["render", str(plan), str(layout), "--format", "svg", "--access"]) == 0
     assert 'id="access:bed:' in layout.with_suffix(".svg").read_text()
+    # ... or into a folder of their own, the pictures generate drew left as they are
+    plain = layout.with_suffix(".svg").read_text()
+    assert main(["render", str(plan), str(layout), "--format", "svg", "--out",
+                 str(tmp_path / "zones")]) == 0
+    assert (tmp_path / "zones" / layout.with_suffix(".svg").name).exists()
+    assert layout.with_suffix(".svg").read_text() == plain
 
 
 def test_validate_access_reports_blocked_access_zones(tmp_path, capsys):

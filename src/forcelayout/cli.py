@@ -147,6 +147,7 @@ def _not_a_layout(path: Path) -> str | None:
 
 
 def _cmd_render(args: argparse.Namespace) -> int:
+    from forcelayout.errors import InputError
     from forcelayout.layout import Layout
     from forcelayout.sources import load_plan
 
@@ -158,6 +159,12 @@ def _cmd_render(args: argparse.Namespace) -> int:
             print(f"error: {path}: not a layout of plan {plan.name!r}: {e}", file=sys.stderr)
             return 2
         out = Path(path).with_suffix(f".{args.format}")
+        if args.out is not None:
+            if args.out.exists() and not args.out.is_dir():
+                raise InputError(f"--out {str(args.out)!r} is a file, not a folder: give a "
+                                 "folder for the pictures")
+            args.out.mkdir(parents=True, exist_ok=True)
+            out = args.out / out.name
         lay.picture(out, show_access=args.access)
         print(out)
     return 0
@@ -293,6 +300,9 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--access", action="store_true",
                    help="draw the access zones, and mark objects with none free (the access "
                         "check)")
+    d.add_argument("--out", type=Path, default=None,
+                   help="folder for the pictures (default: beside each layout, replacing the "
+                        "picture generate drew there)")
     d.set_defaults(func=_cmd_render)
 
     for module, extra, commands in OPTIONAL_COMMANDS:

@@ -147,11 +147,12 @@ def _not_a_layout(path: Path) -> str | None:
 
 
 def _cmd_render(args: argparse.Namespace) -> int:
-    from forcelayout.errors import InputError
     from forcelayout.layout import Layout
     from forcelayout.sources import load_plan
 
     plan = load_plan(args.plan)
+    if args.out is not None:
+        _output_folder(args.out, make=True, what="pictures")
     for path in args.layouts:
         try:
             lay = Layout.load(path, plan)
@@ -160,10 +161,6 @@ def _cmd_render(args: argparse.Namespace) -> int:
             return 2
         out = Path(path).with_suffix(f".{args.format}")
         if args.out is not None:
-            if args.out.exists() and not args.out.is_dir():
-                raise InputError(f"--out {str(args.out)!r} is a file, not a folder: give a "
-                                 "folder for the pictures")
-            args.out.mkdir(parents=True, exist_ok=True)
             out = args.out / out.name
         lay.picture(out, show_access=args.access)
         print(out)
@@ -322,6 +319,23 @@ def _missing(extra: str) -> int:
     print(f"error: this command needs the optional extra: pip install \"forcelayout[{extra}]\"",
           file=sys.stderr)
     return 2
+
+
+def _output_folder(out: Path, *, make: bool, what: str = "layouts") -> None:
+    """Refuse an ``--out`` that is a file or cannot be made (one ``error:`` line, before
+    the plan's warnings); with ``make``, make it."""
+    from forcelayout.errors import InputError
+
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out {str(out)!r} is a file, not a folder: give a folder for the "
+                         f"{what}")
+    if not make:
+        return
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise InputError(f"--out {str(out)!r}: cannot make the folder ({e.strerror}); give "
+                         "a folder you can write to") from e
 
 
 def _count_of(n: int, noun: str) -> str:

@@ -32,7 +32,7 @@ from concurrent.futures import Executor, Future
 from pathlib import Path
 
 from forcelayout._text import one_line
-from forcelayout.cli import _min_rules, _repaired_line
+from forcelayout.cli import _min_rules, _output_folder, _repaired_line
 from forcelayout.dataset import layout_stem
 from forcelayout.diagnose import FewLayoutsWarning, feasibility_warnings_as_lines
 from forcelayout.errors import InputError
@@ -105,21 +105,6 @@ def _blocked_access(layouts: list[Layout]) -> tuple[int, Counter[str], dict[str,
         for oid, covers in shut.items():
             by.setdefault(oid, covers[0][0] if covers else "wall")
     return count, objects, by
-
-
-def _output_folder(out: Path, *, make: bool) -> None:
-    """Refuse an ``--out`` that is a file or cannot be made (one ``error:`` line, before
-    the plan's warnings); with ``make``, make it."""
-    if out.exists() and not out.is_dir():
-        raise InputError(f"--out {str(out)!r} is a file, not a folder: give a folder for the "
-                         "layouts")
-    if not make:
-        return
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise InputError(f"--out {str(out)!r}: cannot make the folder ({e.strerror}); give "
-                         "a folder you can write to") from e
 
 
 def run_generate(args: argparse.Namespace) -> int:

@@ -683,30 +683,34 @@ def out_of_reach(plan: Plan) -> list[OutOfReach]:
         In the order of ``plan.rules``.
     """
     room = plan.room
-    if not room.doors or not room.windows:
-        out = _no_opening(plan)
-        if not room.doors and not room.windows:
-            return out
-    else:
-        out = []
     geom = geo.RoomGeometry.from_room(room)
     obstacles = {o.id for o in plan.floor_objects() if not o.is_walkable}
     floor = geom.shape.buffer(_SPOT_SLACK)
     shapely.prepare(floor)
     zones_below = _zones_below(plan, geom)
 
+    out: list[OutOfReach] = []
     for k, spec in enumerate(plan.rules):
-        got = _unary(spec) if spec.object in obstacles else None
+        got = _unary(spec)
         hint = getattr(got[0], "start", None) if got else None
         if got is None or hint is None or hint.place not in ("door", "window") or \
-                not hint.reach or not getattr(room, f"{hint.place}s"):
+                not hint.reach:
             continue
         rule, params = got
+        reach = float(getattr(params, hint.reach))
+        if not getattr(room, f"{hint.place}s"):  # none of that kind: said so, nothing swept
+            out.append(OutOfReach(k, hint.reach, reach, None, Finding(
+                f"rules[{k}] ({spec.rule})",
+                f"{spec.rule}({spec.object}) cannot be met: the room has no {hint.place}",
+                f"add one to room.{hint.place}s or drop rules[{k}]", severity="infeasible",
+                refs=(f"rules[{k}]",))))
+            continue
+        if spec.object not in obstacles:
+            continue
         walls = [(j, *w) for j, r in enumerate(plan.rules)
                  if r.object == spec.object and (w := _unary(r)) is not None
                  and w[0].start is not None and w[0].start.place == "wall"]
         size = np.asarray(plan.object(spec.object).size, dtype=float)
-        reach = float(getattr(params, hint.reach))
         try:
             spots = _Spots(geom, floor, zones_below(float(size[2])), size, rule, walls)
             if spots.any_met(params):
@@ -731,25 +735,6 @@ def out_of_reach(plan: Plan) -> list[OutOfReach]:
                           f"centre is clear of {zones}", fix, severity="infeasible",
                           refs=(f"rules[{k}]", *(f"rules[{j}]" for j, *_ in walls)))
         out.append(OutOfReach(k, hint.reach, reach, wider, finding))
-    return sorted(out, key=lambda u: u.rule)
-
-
-def _no_opening(plan: Plan) -> list[OutOfReach]:
-    """The rules that bind an object near a door or a window in a room with none."""
-    out: list[OutOfReach] = []
-    for k, spec in enumerate(plan.rules):
-        got = _unary(spec)
-        hint = getattr(got[0], "start", None) if got else None
-        if got is None or hint is None or hint.place not in ("door", "window") or \
-                not hint.reach or getattr(plan.room, f"{hint.place}s"):
-            continue
-        reach = float(getattr(got[1], hint.reach))
-        finding = Finding(f"rules[{k}] ({spec.rule})",
-                          f"{spec.rule}({spec.object}) cannot be met: the room has no "
-                          f"{hint.place}",
-                          f"add one to room.{hint.place}s or drop rules[{k}]",
-                          severity="infeasible", refs=(f"rules[{k}]",))
-        out.append(OutOfReach(k, hint.reach, reach, None, finding))
     return out
 
 

@@ -546,6 +546,30 @@ class Openings:
         ``0 <= pick < K`` (the one a rule names, ``StartHint.which``)."""
         return self.centre[[pick]] if 0 <= pick < len(self) else self.centre
 
+    def zones(self, depth: np.ndarray | float) -> tuple[np.ndarray, np.ndarray]:
+        """The box in front of each opening: as wide as it, ``depth`` metres into the room.
+
+        Parameters
+        ----------
+        depth : float or ndarray
+            Depth of the boxes, metres, of a shape that broadcasts to ``(K, *S)``:
+            a float, one per opening (K,), or one per opening and item
+            ((K or 1, B): the bindings of a rule, each with its own depth).
+
+        Returns
+        -------
+        centre, half : ndarray, shapes (K, *S, 2)
+            Centres, and half extents along the wall (``tangent``) and into the room
+            (``normal``), metres.
+        """
+        d = np.asarray(depth, dtype=float)
+        d = d.reshape(1) if d.ndim == 0 else d
+        d = np.broadcast_to(d, (len(self), *d.shape[1:]))
+        axes = (slice(None),) + (None,) * (d.ndim - 1)
+        centre = self.centre[axes] + self.normal[axes] * (0.5 * d)[..., None]
+        half = np.stack(np.broadcast_arrays(0.5 * self.width[axes], 0.5 * d), axis=-1)
+        return centre, half
+
 
 #: RoomGeometry.from_room's cache: id of a plan's room -> (the room, its geometry).
 _ROOMS: dict[int, tuple[Room, RoomGeometry]] = {}

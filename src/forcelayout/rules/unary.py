@@ -373,9 +373,7 @@ class AwayFromWindow(Rule):
         w = state.room.windows
         if len(w) == 0:
             return None
-        centre = w.centre[:, None, :] + w.normal[:, None, :] * (0.5 * p.distance)[None, :, None]
-        half = np.stack(np.broadcast_arrays(0.5 * w.width[:, None], 0.5 * p.distance[None, :]),
-                        axis=2)  # (K, B, 2)
+        centre, half = w.zones(p.distance[None, :])  # (K, B, 2)
         d = state.pos[i][None, :, :] - centre
         sep = geo.obb_separation(d, w.tangent[:, None, :], w.normal[:, None, :], half,
                                  state.right[i][None], state.front[i][None],

@@ -650,9 +650,8 @@ def _window_zones(geom: RoomGeometry, specs: list) -> tuple[np.ndarray, ...]:
     w = geom.windows
     depth = np.array([o.clearance for o in specs], dtype=float).reshape(-1)
     sill = np.array([o.sill for o in specs], dtype=float).reshape(-1)
-    centre = (w.centre + w.normal * depth[:, None] * 0.5).reshape(-1, 2)
-    half = np.stack([w.width * 0.5, depth * 0.5], axis=1).reshape(-1, 2)
-    return centre, w.tangent.copy(), w.normal.copy(), half, sill
+    centre, half = w.zones(depth)
+    return centre.reshape(-1, 2), w.tangent.copy(), w.normal.copy(), half.reshape(-1, 2), sill
 
 
 def _windows(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprints,

@@ -15,6 +15,7 @@ from forcelayout import Plan
 from forcelayout.autofix import autofix
 from forcelayout.cli import main
 from forcelayout.diagnose import FeasibilityWarning, feasibility
+from forcelayout.sampling import FewLayoutsWarning
 from forcelayout.sanity import category_key, convex_corners, out_of_reach, plan_findings
 
 ROOM = {"polygon": [[0, 0], [4, 0], [4, 3.5], [0, 3.5]], "height": 2.7,
@@ -681,3 +682,32 @@ def test_autofix_moves_a_window_off_the_door_it_overlaps(polygon, wall, offset):
     assert any("moved the window" in n for n in notes)
     Plan.from_dict(fixed)
     assert autofix(fixed)[1] == []  # nothing left to fix
+
+
+def test_an_object_used_from_its_back_alone_at_a_wall_is_found():
+    """A reception desk used from its back, stood back to a wall: never reachable."""
+    desk = {**obj("reception", "reception_desk", (1.6, 0.7, 1.05)),
+            "access": {"sides": ["back"], "depth": 0.7}}
+    p = plan([desk, obj("bed", size=(0.9, 2.0, 0.5))],
+             [{"rule": "at_wall", "object": "reception"}, {"rule": "at_wall", "object": "bed"}])
+    (f,) = plan_findings(p)
+    assert f.path == "objects[0].access" and f.severity == "implausible"
+    assert "at_wall(reception)" in f.message and '"sides": ["front"]' in f.fix
+    assert f.refs == ("objects[0]", "rules[0]")
+    (g,) = plan_findings(p, access=True)
+    assert g.severity == "infeasible"
+    assert feasibility(p).verdict != "infeasible"
+    assert feasibility(p, access=True).verdict == "infeasible"
+    # with a side the room reaches, or off the wall, nothing to say
+    both = {**desk, "access": {"sides": ["back", "front"], "depth": 0.7}}
+    assert not plan_findings(plan([both], [{"rule": "at_wall", "object": "reception"}]))
+    assert not plan_findings(plan([desk], [{"rule": "in_middle", "object": "reception"}]))
+
+
+def test_generate_with_access_warns_of_a_desk_used_from_its_back_at_a_wall():
+    desk = {**obj("reception", "reception_desk", (1.6, 0.7, 1.05)),
+            "access": {"sides": ["back"], "depth": 0.7}}
+    p = plan([desk], [{"rule": "at_wall", "object": "reception"}])
+    with pytest.warns(FeasibilityWarning, match="used from its back"), \
+            pytest.warns(FewLayoutsWarning, match="before sampling the plan looked infeasible"):
+        fl.generate(p, 1, max_attempts=1, check_kwargs={"access_clearance": True})

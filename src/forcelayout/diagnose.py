@@ -254,6 +254,7 @@ def feasibility(
     *,
     agent_radius: float = 0.2,
     min_free_fraction: float = 0.3,
+    access: bool = False,
 ) -> Feasibility:
     """Estimate, before sampling, whether a plan's room can hold its objects.
 
@@ -267,6 +268,10 @@ def feasibility(
     min_free_fraction : float
         Share of the floor the ``navigable`` check asks to stay free
         (default 0.3, as the checks).
+    access : bool
+        Whether the ``access`` check will run (``--access``): an object whose
+        only access side a rule stands against a wall then makes the plan
+        infeasible (:func:`forcelayout.sanity.plan_findings`).
 
     Returns
     -------
@@ -375,7 +380,7 @@ def feasibility(
             tight.append(f"{largest.id!r} ({long_side:g} m long) spans "
                          f"{long_side / span[0]:.0%} of the room's short side "
                          f"({span[0]:.2f} m); it can only lie along the long walls")
-    findings = plan_findings(plan)
+    findings = plan_findings(plan, access=access)
     bad += [str(f) for f in findings if f.severity == "infeasible"]
     odd = [str(f) for f in findings if f.severity != "infeasible"]
     verdict: Verdict = "infeasible" if bad else "tight" if tight else "ok"

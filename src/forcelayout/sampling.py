@@ -833,7 +833,8 @@ def plan_feasibility(plan: Plan, opts: Options | None = None) -> Feasibility:
           if k in opts.check_kwargs}
     if not opts.check:  # no navigability check: the free floor asks for nothing
         kw["min_free_fraction"] = 0.0
-    return feasibility(_plan_for(plan, opts), **kw)
+    access = bool(opts.check and opts.check_kwargs.get("access_clearance", False))
+    return feasibility(_plan_for(plan, opts), access=access, **kw)
 
 
 _REPAIR_KINDS = ("resettled", "moved elsewhere", "started over")

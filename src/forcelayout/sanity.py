@@ -33,6 +33,7 @@ import re
 from collections import defaultdict
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import Any, Literal
 
 import numpy as np
@@ -808,7 +809,39 @@ def off_the_walls(plan: Plan) -> list[Finding]:
     return out
 
 
-def plan_findings(plan: Plan) -> list[Finding]:
+def _access_findings(plan: Plan, required: bool) -> Iterable[Finding]:
+    """Objects used from the back only that a rule stands with the back to a wall
+    (infeasible where the access check is ``required``)."""
+    from forcelayout.access import access_of  # imports the rule registry's bindings
+
+    rules_of: dict[str, list[tuple[int, Rule]]] = defaultdict(list)
+    for k, spec in enumerate(plan.rules):
+        rule = _rule(spec.rule)
+        if rule is not None:
+            rules_of[spec.object].append((k, rule))
+    for i, obj in enumerate(plan.objects):
+        walled = [(k, r) for k, r in rules_of.get(obj.id, ())
+                  if r.start is not None and r.start.place in ("wall", "corner")]
+        if not walled:
+            continue
+        own = [SimpleNamespace(object=obj.id, rule=r) for _, r in rules_of[obj.id]]
+        acc = access_of(obj, own)  # type: ignore[arg-type]
+        if acc is None or not acc.sides or set(acc.sides) != {"back"}:
+            continue
+        k, rule = walled[0]
+        given = obj.access is not None
+        where = "as its access says" if given else f"as a {obj.category!r} is"
+        yield Finding(f"objects[{i}].access" if given else f"objects[{i}]",
+                      f"{obj.id!r} is used from its back ({where}), but "
+                      f"{plan.rules[k].rule}({obj.id}) stands its back against a wall: that "
+                      "side is never free, and --access rejects every layout",
+                      "an object at a wall faces the room with its front: give it "
+                      '"access": {"sides": ["front"]} (or "access": false), or drop '
+                      f"rules[{k}]", severity="infeasible" if required else "implausible",
+                      refs=(f"objects[{i}]", f"rules[{k}]"))
+
+
+def plan_findings(plan: Plan, *, access: bool = False) -> list[Finding]:
     """Everything impossible or implausible about a valid plan, infeasible first.
 
     Checks: more ``in_corner`` objects (and areas) than the floor has convex
@@ -827,12 +860,18 @@ def plan_findings(plan: Plan) -> list[Finding]:
     range (:data:`CATEGORY_SIZES`); a floor far from the usual area of the
     room type its name or description names (:data:`ROOM_AREAS`), or more
     than 2.5 times as long as wide; two doors whose swings overlap (at a
-    corner: the open doors would hit each other).
+    corner: the open doors would hit each other); an object used from its back
+    alone (its ``access``, else its category's) that a rule stands with its
+    back to a wall (``at_wall``, ``in_corner``).
 
     Parameters
     ----------
     plan : Plan
         A validated plan.
+    access : bool
+        Whether the layouts must leave every object a free access zone (the
+        ``access`` check, ``--access``): an object whose only access side
+        stands against a wall is then infeasible, else implausible.
 
     Returns
     -------
@@ -845,6 +884,7 @@ def plan_findings(plan: Plan) -> list[Finding]:
              if plan.rules[u.rule].object not in stuck),  # said once, the simpler way
            *_size_findings(plan),
            *_room_findings(plan),
-           *_door_findings(plan)]
+           *_door_findings(plan),
+           *_access_findings(plan, access)]
     return sorted(out, key=lambda f: f.severity != "infeasible")
 

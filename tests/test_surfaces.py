@@ -324,6 +324,20 @@ def test_object_taller_than_its_band_is_a_plan_error():
         check_surfaces(fl.Plan.from_dict(plan))
 
 
+@pytest.mark.parametrize("low, high, h", [(0.3, 1.4, 1.1), (0.1, 1.2, 1.1), (0.3, 1.2, 0.9)])
+def test_a_wall_object_as_tall_as_its_band_hangs(low, high, h):
+    """A band exactly the object's height holds it (``high - low`` rounds below ``h`` for
+    these: a towel radiator 1.1 m tall from 0.3 to 1.4 m went missing)."""
+    plan = copy.deepcopy(PLAN)
+    plan["objects"].append({"id": "radiator", "category": "radiator", "size": [0.5, 0.1, h]})
+    plan["rules"].append({"rule": "on_wall", "object": "radiator",
+                          "params": {"low": low, "high": high}})
+    check_surfaces(fl.Plan.from_dict(plan))
+    lay = fl.solve(plan, 0, check=False)
+    assert lay.poses["radiator"].z == pytest.approx(low, abs=1e-9)
+    assert not lay.report.missing and lay.report.rule_satisfaction == 1.0
+
+
 def test_free_wall_stretches_take_out_openings():
     plan = fl.Plan.from_dict(PLAN)
     # a 1 m tall object in [0.3, 2.7] cannot pass above or below the door or the window

@@ -127,7 +127,10 @@ class OnWall(_SurfaceRule):
     Satisfied when the surface is ``"wall:<i>"``, the back lies on wall ``i``
     (within ``tolerance`` metres, facing into the room), the object lies
     within the wall's length, and its height band holds. ``wall`` pins the
-    wall; by default any wall with a free stretch wide enough is used.
+    wall; by default any wall with a free stretch wide enough is used. Within
+    its band the object hangs as near eye level (its centre at 1.6 m) as the
+    band and what is on the wall allow: give ``high`` to hang it low (a towel
+    radiator 1.1 m tall with ``high`` 1.4 hangs from 0.3 m).
     """
 
     aliases = ("hang_on_wall",)

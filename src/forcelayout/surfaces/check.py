@@ -5,7 +5,7 @@ from __future__ import annotations
 from forcelayout.bindings import compile_plan
 from forcelayout.errors import PlanError, Problem
 from forcelayout.plan import Plan
-from forcelayout.surfaces.walls import binding_walls, free_wall_stretches, wall_band
+from forcelayout.surfaces.walls import binding_walls, fits_band, free_wall_stretches, wall_band
 
 __all__ = ["check_surfaces"]
 
@@ -35,7 +35,7 @@ def check_surfaces(plan: Plan) -> None:
         on_floor = b.target in ids and cp.surface_of(b.target) is None
         low, high = wall_band(b, room.height,
                               plan.object(b.target).size[2] if on_floor else None, h)
-        if high - low < h - 1e-9:
+        if not fits_band(low, high, h):
             problems.append(Problem(f"{path}.params", f"{b.object!r} is {h:g} m tall but its "
                                     f"band on the wall is {low:.2f}..{high:.2f} m; lower 'low', "
                                     "raise 'high' or use a smaller object"))

@@ -167,6 +167,12 @@ def free_intervals(length: float, blocks: list[Block], v0: float, v1: float,
     return [(a, b) for a, b in out if b - a > 1e-9]
 
 
+def fits_band(low: float, high: float, height: float) -> bool:
+    """Whether an object ``height`` tall fits between heights ``low`` and ``high`` (metres;
+    one exactly as tall as the band does, whatever the rounding of ``high - low``)."""
+    return high - low >= height - 1e-9
+
+
 def free_wall_stretches(plan: Plan, wall: int, low: float, high: float, height: float,
                         margin: float = 0.0) -> list[tuple[float, float]]:
     """Stretches of a wall where an object ``height`` tall fits in the band, ignoring furniture.
@@ -182,8 +188,8 @@ def free_wall_stretches(plan: Plan, wall: int, low: float, high: float, height: 
     """
     blocks = []
     for u0, u1, v0, v1 in opening_blocks(plan, wall):
-        below = min(high, v0) - low >= height
-        above = high - max(low, v1) >= height
+        below = fits_band(low, min(high, v0), height)
+        above = fits_band(max(low, v1), high, height)
         if not (below or above):
             blocks.append((u0, u1, -1.0, math.inf))
     return free_intervals(plan.room.wall_length(wall), blocks, 0.0, 1.0, margin=margin)
@@ -207,7 +213,8 @@ def hanging_centres(plan: Plan, binding: Binding, target_top: float | None) -> n
     w, _, h = plan.object(binding.object).size
     low, high = wall_band(binding, plan.room.height, target_top, h)
     rows = [(wall, a + w / 2, b - w / 2)
-            for wall in binding_walls(binding, len(plan.room.polygon)) if high - low >= h
+            for wall in binding_walls(binding, len(plan.room.polygon))
+            if fits_band(low, high, h)
             for a, b in free_wall_stretches(plan, wall, low, high, h, margin=MARGIN)
             if b - a >= w]
     return np.array(rows, dtype=float).reshape(-1, 3)
@@ -444,9 +451,10 @@ def _wall_spot(length: float, blocks: list[Block], w: float, h: float, low: floa
     object's centre stays inside it, as close to the span's middle as the
     free stretch allows.
     """
-    if high - low < h:
+    if not fits_band(low, high, h):
         return None
-    heights = [*_heights(blocks, h, low, high), *rng.uniform(low, high - h, 4).tolist()]
+    top = max(low, high - h)  # the highest bottom (the lowest, in a band as tall as it)
+    heights = [*_heights(blocks, h, low, high), *rng.uniform(low, top, 4).tolist()]
     for v in heights:
         ranges = _centres(length, blocks, w, h, v, span)
         if not ranges:
@@ -464,11 +472,12 @@ def _wall_spot(length: float, blocks: list[Block], w: float, h: float, low: floa
 def _heights(blocks: list[Block], h: float, low: float, high: float) -> list[float]:
     """The bottoms :func:`_wall_spot` tries first for an object ``h`` tall in the band: eye
     level, just above or below each obstacle (nearest eye level first), the band's ends."""
-    pref = float(np.clip(EYE_LEVEL - h / 2, low, high - h))
+    top = max(low, high - h)
+    pref = float(np.clip(EYE_LEVEL - h / 2, low, top))
     edges = [b[3] for b in blocks] + [b[2] - h for b in blocks]
-    edges = sorted({float(e) for e in edges if low <= e <= high - h},
+    edges = sorted({float(e) for e in edges if low <= e <= top},
                    key=lambda e: abs(e + h / 2 - EYE_LEVEL))
-    return [pref, *edges[:16], low, high - h]
+    return [pref, *edges[:16], low, top]
 
 
 def _centres(length: float, blocks: list[Block], w: float, h: float, v: float,
@@ -672,7 +681,7 @@ def _fits(room: RoomGeometry, blocks: dict[int, list[Block]], walls: list[int],
           high: float) -> bool:
     """Whether a ``w`` x ``h`` wall object finds a first spot on one of ``walls``, in the
     band ``low..high`` and over one of ``spans`` (None: anywhere)."""
-    return high - low >= h and any(
+    return fits_band(low, high, h) and any(
         _centres(float(room.length[wall]), blocks[wall], w, h, v, span)
         for wall in walls for span in spans for v in _heights(blocks[wall], h, low, high))
 

@@ -105,6 +105,24 @@ def test_an_unknown_object_sharing_only_a_word_is_not_taken_for_it():
                          for m in found)
 
 
+def test_a_window_or_door_as_a_target_names_the_rule_meant():
+    """A window or a door is the room's: ``near`` the window is ``near_window``."""
+    (p,) = problems(plan_with(rules__1__target="window"))
+    assert p.path.endswith(".target")
+    assert 'A window is part of the room (room.windows), not an object: use {"rule": ' \
+           '"near_window", "object": "nightstand_1"} with no target.' in p.message
+    data = plan_with(rules__1__target="door_0")
+    data["rules"][1]["rule"] = "above"
+    (p,) = problems(data)
+    assert "A door is part of the room (room.doors), not an object; the rules about " \
+           "doors: away_from_door, near_door." in p.message
+    # an object with a close name is what a misspelt target means
+    data = plan_with(rules__1__target="window_sea")
+    data["objects"].append({"id": "window_seat", "category": "bench", "size": [1.0, 0.5, 0.45]})
+    (p,) = problems(data)
+    assert "Did you mean 'window_seat'?" in p.message
+
+
 def test_an_unknown_object_as_close_to_two_ids_names_both():
     data = {"name": "beds", "room": {"polygon": [[0, 0], [4, 0], [4, 4], [0, 4]]},
             "objects": [{"id": i, "category": "nightstand", "size": [0.45, 0.4, 0.55]}

@@ -169,6 +169,24 @@ def _feature(target: str, features: dict[str, dict[str, str]]) -> str | None:
     return None
 
 
+def room_feature_hint(rule: str, target: str, obj: str = "...") -> str:
+    """The hint for a target that names a feature of the room (``"window"``, ``"door_0"``),
+    not an object: the rule meant for it (``near`` the window is ``near_window``), else
+    the rules about that feature; ``""`` for any other target."""
+    features = _feature_rules()
+    feature = _feature(target, features)
+    if feature is None or feature == "room":
+        return ""
+    meant = features.get(feature, {}).get(rule)
+    place = f"room.{feature}s"
+    if meant is not None:
+        return (f" A {feature} is part of the room ({place}), not an object: use "
+                f"{{\"rule\": \"{meant}\", \"object\": \"{obj}\"}} with no target.")
+    about = sorted({r.name for r in _declared() if r.feature == feature})
+    return (f" A {feature} is part of the room ({place}), not an object"
+            + (f"; the rules about {feature}s: {', '.join(about)}." if about else "."))
+
+
 def resolve_id(value: Any, ids: list[str], by_category: dict[str, list[str]]) -> Any:
     """The object id a near-miss reference means (``"bed"`` for the only bed), else ``value``.
 

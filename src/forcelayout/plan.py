@@ -522,6 +522,13 @@ def _which_id(name: str, ids: list[str]) -> str:
     return f" The plan's objects are {shown}."
 
 
+def _room_feature(rule: str, target: str, obj: str) -> str:
+    """The hint for a target naming a window or a door: the rule meant for it."""
+    from forcelayout.autofix import room_feature_hint  # the autofix reads plans: when needed
+
+    return room_feature_hint(rule, target, obj)
+
+
 def _rule_meant(name: str) -> str:
     """The hint for an unknown rule name: the rule it is an alias of (``beside`` is
     ``next_to``), else the closest registered name."""
@@ -676,8 +683,9 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
             yield Problem(f"{path}.target", f"{r.rule!r} takes no target (it relates "
                           f"{r.object!r} to the room); remove 'target'")
         elif r.target is not None and r.target not in ids and r.target not in areas:
-            yield Problem(f"{path}.target",
-                          f"unknown object {r.target!r}.{_which_id(r.target, ids)}")
+            hint = (_did_you_mean(r.target, ids) or _room_feature(r.rule, r.target, r.object)
+                    or _which_id(r.target, ids))
+            yield Problem(f"{path}.target", f"unknown object {r.target!r}.{hint}")
         elif r.target is not None and r.target == r.object:
             yield Problem(f"{path}.target", "an object cannot be related to itself")
         try:

@@ -711,3 +711,32 @@ def test_generate_with_access_warns_of_a_desk_used_from_its_back_at_a_wall():
     with pytest.warns(FeasibilityWarning, match="used from its back"), \
             pytest.warns(FewLayoutsWarning, match="before sampling the plan looked infeasible"):
         fl.generate(p, 1, max_attempts=1, check_kwargs={"access_clearance": True})
+
+
+def _sofa_and_tv(distance, *, room=(6.0, 4.6), tv_at_wall=True):
+    w, d = room
+    rules = [{"rule": "at_wall", "object": "sofa"},
+             {"rule": "facing", "object": "sofa", "target": "tv_stand"},
+             {"rule": "near", "object": "sofa", "target": "tv_stand",
+              "params": {"distance": distance}},
+             {"rule": "facing", "object": "tv_stand", "target": "sofa"}]
+    if tv_at_wall:
+        rules.append({"rule": "at_wall", "object": "tv_stand"})
+    return plan([obj("sofa", size=(1.8, 0.85, 0.85)), obj("tv_stand", size=(1.2, 0.4, 0.5))],
+                rules, name="studio",
+                room={"polygon": [[0, 0], [w, 0], [w, d], [0, d]], "height": 2.6,
+                      "doors": [{"wall": 0, "offset": 0.6, "width": 0.9}]})
+
+
+def test_two_objects_facing_across_the_room_too_far_for_their_near_rule_are_found():
+    """A sofa and its TV stand at walls facing each other: 3.35 m apart at the least across
+    a 4.6 m room, so near 3 m is never met (a new user's studio: 0 of 80 samples)."""
+    (f,) = [f for f in plan_findings(_sofa_and_tv(3.0)) if f.path == "rules[2] (near)"]
+    assert f.severity == "infeasible"
+    assert "stand 3.35 m apart at the least" in f.message
+    assert "give rules[2] a distance of 3.4 m" in f.fix
+    assert feasibility(_sofa_and_tv(3.0)).verdict == "infeasible"
+    # a distance the room allows, a narrower room, or the stand off the wall: nothing
+    for p in (_sofa_and_tv(3.4), _sofa_and_tv(3.0, room=(6.0, 4.0)),
+              _sofa_and_tv(3.0, tv_at_wall=False)):
+        assert not [f for f in plan_findings(p) if f.path == "rules[2] (near)"]

@@ -634,24 +634,33 @@ def test_access_check_needs_one_free_side_of_each_object():
         "(0.08 m²))"]
 
 
-@pytest.mark.parametrize("rules, blocked", [
-    ([], ["counter", "island"]),
-    # a rule that keeps its object close lets it stand in its target's zone (the island in
-    # the counter's front), not the target in the object's own (the island's back)
+_USED = {"sides": ["back"], "depth": 0.9}
+
+
+@pytest.mark.parametrize("rules, access, blocked", [
+    ([], _USED, ["counter", "island"]),
+    # a rule that keeps its object close lets it stand in its target's zone (a table in
+    # the counter's front), not the target in the object's own ...
     ([{"rule": "in_front_of", "object": "island", "target": "counter",
-       "params": {"distance": 1.3}}], ["island"]),
-    ([{"rule": "in_front_of", "object": "counter", "target": "island"}], ["counter"]),
-    # a rule that keeps no closeness lets neither: a bed facing a dresser does not block it
-    ([{"rule": "facing", "object": "island", "target": "counter"}], ["counter", "island"]),
+       "params": {"distance": 1.3}}], False, []),
+    ([{"rule": "in_front_of", "object": "counter", "target": "island"}], False, ["counter"]),
+    # ... unless the object is used itself: an island with free floor behind it for its
+    # stools keeps out of the counter's zone as well
+    ([{"rule": "in_front_of", "object": "island", "target": "counter",
+       "params": {"distance": 1.3}}], _USED, ["counter", "island"]),
     ([{"rule": "near", "object": "island", "target": "counter"},
-      {"rule": "near", "object": "counter", "target": "island"}], []),
+      {"rule": "near", "object": "counter", "target": "island"}], _USED, ["counter", "island"]),
+    # a rule that keeps no closeness lets neither: a bed facing a dresser does not block it
+    ([{"rule": "facing", "object": "island", "target": "counter"}], _USED,
+     ["counter", "island"]),
 ])
-def test_only_what_a_rule_keeps_close_may_stand_in_an_access_zone(rules, blocked):
+def test_only_what_a_rule_keeps_close_and_is_not_used_itself_may_stand_in_a_zone(
+        rules, access, blocked):
     plan = Plan.from_dict({
         "name": "kitchen", "room": {"polygon": [[0, 0], [4, 0], [4, 4], [0, 4]]},
         "objects": [{"id": "counter", "category": "counter", "size": [1.8, 0.6, 0.9]},
                     {"id": "island", "category": "kitchen_island", "size": [1.8, 0.9, 0.9],
-                     "access": {"sides": ["back"], "depth": 0.9}}],
+                     "access": access}],
         "rules": rules})
     # the counter's back to the wall y = 0, its front zone y 0.6..1.2; the island 0.3 m in
     # front of it, facing the same way: its back zone (y 0.9..1.8) holds the counter's front

@@ -231,8 +231,9 @@ def access_zones(plan_objects: dict[str, SceneObject], ids: Sequence[str],
         The object of each row.
     bindings : sequence of Binding
         The plan's bindings (a rule may declare access; an object a rule stands in
-        front of its target, the chair at the desk, deepens the target's front zone by
-        its depth: the free floor a person needs starts behind it).
+        front of its target and lets into its zones, the chair at the desk, deepens the
+        target's front zone by its depth: the free floor a person needs starts behind
+        it).
     walkable : ndarray of bool, shape (N,)
         Walkable covers: they own no zone and block none.
     related : ndarray of bool, shape (N, N)
@@ -245,12 +246,13 @@ def access_zones(plan_objects: dict[str, SceneObject], ids: Sequence[str],
         ``None`` when no row needs access.
     """
     owner, direction, depth, sides = [], [], [], []
-    rows = set(ids)
+    row = {oid: r for r, oid in enumerate(ids)}
     in_front: dict[str, float] = {}
     for b in bindings:
         hint = b.rule.start
-        if b.target in rows and b.object in rows and hint is not None \
-                and hint.place == "front" and b.object in plan_objects:
+        if b.target in row and b.object in row and hint is not None \
+                and hint.place == "front" and b.object in plan_objects \
+                and related[row[b.target], row[b.object]]:
             in_front[b.target] = max(in_front.get(b.target, 0.0),
                                      float(plan_objects[b.object].size[1]))
     for r, oid in enumerate(ids):
@@ -297,14 +299,18 @@ class AccessZones:
     sides: tuple[str, ...]
 
 
-def related_pairs(ids: Sequence[str], bindings: Sequence[Binding]) -> np.ndarray:
+def related_pairs(ids: Sequence[str], bindings: Sequence[Binding],
+                  plan_objects: dict[str, SceneObject] | None = None) -> np.ndarray:
     """Which rows may stand in which rows' access zones: ``[owner, other]``.
 
     A rule that keeps its object close to its target (``closeness="close"``:
     ``next_to``, ``near``, ``in_front_of``, ``around``, ...) lets the object
     stand in the target's zones (the chair at the desk, the nightstand at the
-    head of the bed), not the target in the object's (an island kept in front
-    of a counter still needs its own zone free of the counter). A rule that
+    head of the bed), not the target in the object's. An object that needs a
+    zone of its own (``access_of``: from the plan, a rule or its category) is
+    used where it stands, and keeps out of the target's zones all the same: a
+    kitchen island in front of a counter stands beyond the counter's zone, a
+    dresser next to a bed beside its head, not along its side. A rule that
     keeps no closeness (``facing``, ``aligned_with``) lets neither: a dresser
     that a bed faces does not block the bed's side.
 
@@ -313,6 +319,9 @@ def related_pairs(ids: Sequence[str], bindings: Sequence[Binding]) -> np.ndarray
     ids : sequence of str
         The object of each row.
     bindings : sequence of Binding
+    plan_objects : dict of str to SceneObject, optional
+        The plan's objects, to tell which need a zone of their own; without them
+        every close rule lets its object in.
 
     Returns
     -------
@@ -320,8 +329,14 @@ def related_pairs(ids: Sequence[str], bindings: Sequence[Binding]) -> np.ndarray
     """
     row = {oid: k for k, oid in enumerate(ids)}
     related = np.zeros((len(ids), len(ids)), dtype=bool)
+    used: dict[str, bool] = {}
     for b in bindings:
-        if b.object in row and b.target in row and b.rule.closeness == "close":
+        if b.object not in row or b.target not in row or b.rule.closeness != "close":
+            continue
+        if plan_objects is not None and b.object in plan_objects and b.object not in used:
+            used[b.object] = access_of(plan_objects[b.object],
+                                       [c for c in bindings if c.object == b.object]) is not None
+        if not used.get(b.object, False):
             related[row[b.target], row[b.object]] = True
     return related
 
@@ -357,7 +372,8 @@ def layout_zones(layout: Layout) -> list[tuple[str, str, np.ndarray]]:
     objects = {o.id: o for o in plan.objects}
     bindings = compile_plan(plan).bindings
     walkable = np.array([objects[oid].is_walkable for oid in ids], dtype=bool)
-    zones = access_zones(objects, ids, bindings, walkable, related_pairs(ids, bindings))
+    zones = access_zones(objects, ids, bindings, walkable,
+                         related_pairs(ids, bindings, objects))
     if zones is None:
         return []
     o = zones.owner

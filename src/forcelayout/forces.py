@@ -389,7 +389,7 @@ class ForceModel:
             self.terms.append(self._window_term(w_window))
         if self.physical_weights.access > 0:  # free floor in front of wardrobes, desks, ...
             acc = access_term(objects, self.ids, self.bindings, self.walkable,
-                              related_pairs(self.ids, self.bindings))
+                              related_pairs(self.ids, self.bindings, objects))
             if acc is not None:
                 acc.strength *= self.physical_weights.access
                 self.terms.append(acc)

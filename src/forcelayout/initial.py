@@ -440,15 +440,22 @@ def _back_access(access: AccessTerm | None, n: int) -> np.ndarray:
 def _own_gaps(access: AccessTerm | None, parent: np.ndarray, wants: list[_Wants]) -> None:
     """Set ``own_gap`` of each row that starts in front of or behind its parent: the
     depth of its access zone on its side towards the parent (its front where it turns
-    to face the parent, else its back in front of the parent and its front behind it)."""
+    to face the parent, else its back in front of the parent and its front behind it),
+    or of the parent's zone on that side where the row may not stand in it, the deeper
+    (an island in front of a counter, used itself: :func:`forcelayout.access.related_pairs`)."""
     if access is None:
         return
     for c, w in enumerate(wants):
-        if parent[c] < 0 or not w.places & {"front", "back"}:
+        q = int(parent[c])
+        if q < 0 or not w.places & {"front", "back"}:
             continue
         towards = 1.0 if "face_target" in w.turns or "back" in w.places else -1.0
         mine = (access.owner == c) & (access.direction[:, 1] * towards > 0.5)
-        w.own_gap = float(access.depth[mine].max()) if mine.any() else 0.0
+        side = -1.0 if "back" in w.places else 1.0
+        theirs = (access.owner == q) & (access.direction[:, 1] * side > 0.5) \
+            & ~access.exempt[:, c]
+        # the two zones may be one stretch of floor (the aisle between island and counter)
+        w.own_gap = float(access.depth[mine | theirs].max()) if (mine | theirs).any() else 0.0
 
 
 def _corner_candidates(

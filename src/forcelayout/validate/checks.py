@@ -737,8 +737,8 @@ def _zone_states(ids: list[str], boxes: tuple[np.ndarray, ...], polys: _Footprin
     nb = len(pos)
     plan = layout.plan
     bindings = compile_plan(plan).bindings
-    zones = access_zones({o.id: o for o in plan.objects}, ids, bindings, walk,
-                         related_pairs(ids, bindings))
+    objects = {o.id: o for o in plan.objects}
+    zones = access_zones(objects, ids, bindings, walk, related_pairs(ids, bindings, objects))
     if zones is None:
         return None
     o = zones.owner

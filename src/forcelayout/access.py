@@ -61,7 +61,7 @@ CATEGORY_ACCESS: dict[str, Access] = {
     **{w: Access(_FRONT, 0.5) for w in (
         "dresser", "drawers", "chest", "cabinet", "sideboard", "bookshelf", "bookcase",
         "shelves", "shelving", "sofa", "couch", "loveseat", "sectional", "toilet", "piano",
-        "locker", "pantry", "hutch")},
+        "locker", "pantry", "hutch", "armchair", "recliner", "beanbag")},
 }
 
 #: Category words of things used from above or carried, that need no free side whatever
@@ -75,7 +75,9 @@ _DIRS = {"front": (0.0, 1.0), "back": (0.0, -1.0), "left": (-1.0, 0.0), "right":
 def access_of(obj: SceneObject, bindings: Sequence[Binding] = ()) -> Access | None:
     """The access an object needs: from the plan, its rules, or its category.
 
-    A category's long sides (a bed's) are the left and right sides of a
+    The category is looked up whole with its separators dropped (a
+    ``bean_bag`` is a ``beanbag``), then word by word from the last. A
+    category's long sides (a bed's) are the left and right sides of a
     footprint deeper than wide, the front and back of one wider than deep
     (a sofa bed, a crib along a wall).
 
@@ -97,7 +99,9 @@ def access_of(obj: SceneObject, bindings: Sequence[Binding] = ()) -> Access | No
     for b in bindings:
         if b.object == obj.id and b.rule.access is not None:
             return b.rule.access
-    for word in reversed(re.split(r"[^a-z0-9]+", obj.category.lower())):
+    words = re.split(r"[^a-z0-9]+", obj.category.lower())
+    # the whole category first (a 'bean_bag' is a beanbag, not a bag), then its words
+    for word in ["".join(words), *reversed(words)]:
         if word in NO_ACCESS_WORDS:
             return None
         if word in CATEGORY_ACCESS:

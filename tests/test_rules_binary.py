@@ -7,8 +7,10 @@ the target's: front = local +y, left = local -x, right = local +x.
 
 import numpy as np
 import pytest
+import shapely
 
 import forcelayout as fl
+from forcelayout.geometry import box_corners
 from forcelayout.sampling import solve
 from forcelayout.testing import bind, make_state
 
@@ -124,6 +126,39 @@ def test_in_front_of_follows_the_target_heading():
     assert not ok
     _, _, ok, _ = run("in_front_of", [1.2, 1.75], [2.0, 1.75], target_yaw=np.pi / 2)
     assert ok
+
+
+def test_a_cover_in_front_of_its_target_does_not_lie_under_it():
+    """A bath mat (walkable: nothing stops it) half under the tub is not in front of it: it
+    is pushed out from under it, and met once it reaches at most 1 cm under. A solid object
+    there is kept off by contacts, not by the rule."""
+    mat = [0.8, 0.5, 0.01]
+    tub = [1.2, 0.6, 0.55]
+    f, _, ok, _ = run("in_front_of", [2.0, 0.95], [2.0, 0.5], size=mat, target_size=tub)
+    assert f[1] > 0 and not ok  # 0.1 m under
+    f, _, ok, _ = run("in_front_of", [2.0, 0.95], [2.0, 0.5], size=[0.8, 0.5, 0.4],
+                      target_size=tub)
+    assert f[1] == 0 and ok
+    _, _, ok, _ = run("in_front_of", [2.0, 1.05], [2.0, 0.5], size=mat, target_size=tub)
+    assert ok  # touching
+    _, _, ok, _ = run("in_front_of", [2.0, 1.045], [2.0, 0.5], size=mat, target_size=tub)
+    assert ok  # 5 mm under
+
+
+def test_a_bath_mat_in_front_of_the_tub_lies_beside_it():
+    plan = {"name": "bathroom", "room": {"polygon": [[0, 0], [2.8, 0], [2.8, 2.4], [0, 2.4]],
+                                         "doors": [{"wall": 0, "offset": 0.55, "width": 0.75}]},
+            "objects": [{"id": "bathtub", "category": "bathtub", "size": [1.7, 0.75, 0.55]},
+                        {"id": "mat", "category": "bath_mat", "size": [0.8, 0.5, 0.01]}],
+            "rules": [{"rule": "in_corner", "object": "bathtub"},
+                      {"rule": "in_front_of", "object": "mat", "target": "bathtub",
+                       "params": {"distance": 0.1}}]}
+    for seed in range(6):
+        lay = solve(plan, seed)
+        st = lay.state(["mat", "bathtub"])
+        mat, tub = (shapely.Polygon(c) for c in box_corners(st.pos, st.yaw, st.half))
+        assert mat.intersection(tub).area < 0.01 * 0.8, seed  # at most 1 cm under
+        assert lay.report.rule_satisfaction == 1.0
 
 
 def test_behind_goes_round_to_the_back():

@@ -17,6 +17,7 @@ import numpy as np
 from pydantic import Field
 
 from forcelayout.geometry import facing_point
+from forcelayout.plan import WALKABLE_HEIGHT
 from forcelayout.rules.base import Access, ParamArrays, Rule, StartHint, State
 from forcelayout.rules.shaping import (
     CAP,
@@ -265,6 +266,16 @@ class FaceSameAs(Rule):
         return np.abs(self._err(state, i, j)) <= np.radians(p.max_angle)
 
 
+#: How far a walkable cover at a side of its target may reach under it, metres.
+_UNDER = 0.01
+
+
+def _thin(state: State, i: np.ndarray) -> np.ndarray:
+    """Which rows are floor covers by their height (``WALKABLE_HEIGHT``: a mat, a rug), what
+    nothing keeps from lying under another object."""
+    return state.size[i, 2] <= WALKABLE_HEIGHT + 1e-9
+
+
 class _Side(Rule):
     """Placed on one side of the target, in the target's frame.
 
@@ -273,7 +284,9 @@ class _Side(Rule):
     extents along them. Satisfied when the object's centre lies beyond the
     target's edge on that side, the footprint gap along ``u`` is at most
     ``distance``, and the centre is within the target's half extent plus
-    ``lateral`` of the target's centre line.
+    ``lateral`` of the target's centre line; a floor cover there (no higher
+    than ``WALKABLE_HEIGHT``: a bath mat in front of the tub) reaches at most
+    1 cm under the target, and is pushed out from under it.
     """
 
     target = "required"
@@ -316,6 +329,7 @@ class _Side(Rule):
         on_side = a > hu
         # along u: closer than a little less than the allowed gap (contacts keep it off)
         fu = -ramp(gap - p.distance + np.minimum(0.1, 0.5 * p.distance))
+        fu += np.where(_thin(state, i), ramp(-gap), 0.0)  # a cover out from under it
         fu = np.where(on_side, fu, 0.5 * CAP)
         # along v: onto the centre line when on the side, else around the target
         band = hv + p.lateral
@@ -328,8 +342,9 @@ class _Side(Rule):
         return f, np.zeros(len(i))
 
     def satisfied(self, state: State, i: np.ndarray, j: np.ndarray, p: ParamArrays):
-        u, v, hu, hv, a, lat, _ = self._coords(state, i, j)
-        return (a > hu) & (state.gap(i, j) <= p.distance) & (np.abs(lat) <= hv + p.lateral)
+        u, v, hu, hv, a, lat, under = self._coords(state, i, j)
+        return (a > hu) & (state.gap(i, j) <= p.distance) \
+            & ((under >= -_UNDER) | ~_thin(state, i)) & (np.abs(lat) <= hv + p.lateral)
 
 
 class InFrontOf(_Side):

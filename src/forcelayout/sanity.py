@@ -812,6 +812,8 @@ def off_the_walls(plan: Plan) -> list[Finding]:
 
 #: Step of the sweep over the wall spots of two objects that face each other, metres.
 PAIR_STEP = 0.1
+#: Most spots of one object that sweep pairs (a longer step in a hall with long walls).
+_PAIR_SPOTS = 400
 
 
 def facing_apart(plan: Plan) -> list[Finding]:
@@ -860,7 +862,7 @@ def facing_apart(plan: Plan) -> list[Finding]:
         return any(r.start is not None and r.start.place == "wall" for _, r, _ in unary[oid])
 
     out: list[Finding] = []
-    spots: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    spots: dict[str, tuple[np.ndarray, np.ndarray, float]] = {}
     geom = None
     for k, rule, params in close:
         a, b = plan.rules[k].object, plan.rules[k].target
@@ -877,7 +879,7 @@ def facing_apart(plan: Plan) -> list[Finding]:
             if oid not in spots:
                 spots[oid] = _own_spots(geom, floor, zones_below, plan.object(oid).size,
                                         unary[oid])
-        (pa, ya), (pb, yb) = spots[a], spots[b]
+        (pa, ya, step_a), (pb, yb, step_b) = spots[a], spots[b]
         m = len(pa) * len(pb)
         if m == 0:
             continue  # no spot at all: said by off_the_walls
@@ -888,16 +890,18 @@ def facing_apart(plan: Plan) -> list[Finding]:
                       geom, samples=m)
         i, j = np.arange(0, 2 * m, 2), np.arange(1, 2 * m, 2)
         facing = np.ones(m, dtype=bool)
-        for (x, y), rules in (((i, j), faces[a, b]), ((j, i), faces[b, a])):
-            for r, p in rules:
-                facing &= r.satisfied(state, x, y, ParamArrays.from_models([p] * m, np.ones(m)))
-        if not facing.any():
-            continue  # they never face each other: another finding, or none
-        met = rule.satisfied(state, i, j, ParamArrays.from_models([params] * m, np.ones(m)))
-        if (met & facing).any():
-            continue
+        try:
+            for (x, y), rules in (((i, j), faces[a, b]), ((j, i), faces[b, a])):
+                for r, p in rules:
+                    facing &= r.satisfied(state, x, y,
+                                          ParamArrays.from_models([p] * m, np.ones(m)))
+            met = rule.satisfied(state, i, j, ParamArrays.from_models([params] * m, np.ones(m)))
+        except Exception:  # noqa: BLE001 - a plugin rule whose check needs more than the
+            continue  # pair's poses: nothing said rather than no findings at all
+        if not facing.any() or (met & facing).any():
+            continue  # they never face each other (another finding, or none), or they can
         least = float(state.gap_estimate(i, j)[facing].min())
-        if least <= float(distance) + PAIR_STEP:
+        if least <= float(distance) + max(step_a, step_b):
             continue
         spec = plan.rules[k]
         out.append(Finding(
@@ -911,9 +915,11 @@ def facing_apart(plan: Plan) -> list[Finding]:
 
 def _own_spots(geom: geo.RoomGeometry, floor: shapely.Polygon,
                zones_below: Callable[[float], tuple], size: Sequence[float],
-               unary: list[tuple[int, Rule, object]]) -> tuple[np.ndarray, np.ndarray]:
-    """An object's spots with its back against a wall, every :data:`PAIR_STEP`, that meet
-    its own unary rules and are clear of the zones the checks keep free of it."""
+               unary: list[tuple[int, Rule, object]]
+               ) -> tuple[np.ndarray, np.ndarray, float]:
+    """An object's spots with its back against a wall, every :data:`PAIR_STEP` (or more, for
+    at most ``_PAIR_SPOTS`` of them), that meet its own unary rules and are clear of the
+    zones the checks keep free of it, and the step (metres)."""
     size = np.asarray(size, dtype=float)
     walls = [(k, r, p) for k, r, p in unary if r.start is not None and r.start.place == "wall"]
     sp = _Spots(geom, floor, zones_below(float(size[2])), size, walls[0][1], walls)
@@ -923,9 +929,11 @@ def _own_spots(geom: geo.RoomGeometry, floor: shapely.Polygon,
             keep &= sp._satisfied(r, p)
         except Exception:  # noqa: BLE001 - a plugin rule whose check needs more than a
             continue  # lone object's pose: judged by the others alone
-    k = np.flatnonzero(keep)[:: max(1, round(PAIR_STEP / SPOT_STEP))]
+    k = np.flatnonzero(keep)
+    every = max(1, round(PAIR_STEP / SPOT_STEP), -(-len(k) // _PAIR_SPOTS))
+    k = k[::every]
     k = k[sp._clear(k)] if len(k) else k
-    return sp.pos[k], sp.yaw[k]
+    return sp.pos[k], sp.yaw[k], every * SPOT_STEP
 
 
 def _access_findings(plan: Plan, required: bool) -> Iterable[Finding]:

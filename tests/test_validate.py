@@ -669,6 +669,26 @@ def test_only_what_a_rule_keeps_close_and_is_not_used_itself_may_stand_in_a_zone
     assert sorted(f.split("'")[1] for f in lines) == blocked
 
 
+def test_a_chair_around_a_desk_is_let_into_its_zone_whatever_room_its_rule_asks():
+    """``around`` asks room behind a chair to pull it out: that is no use of its own, and
+    the chair still stands in the desk's front zone."""
+    from forcelayout.access import related_pairs
+    from forcelayout.bindings import compile_plan
+
+    plan = Plan.from_dict({
+        "name": "office", "room": {"polygon": [[0, 0], [4, 0], [4, 4], [0, 4]]},
+        "objects": [{"id": "desk", "category": "desk", "size": [1.6, 0.8, 0.75]},
+                    {"id": "chair", "category": "chair", "size": [0.5, 0.5, 0.9]},
+                    {"id": "armchair", "category": "armchair", "size": [0.8, 0.8, 0.9]}],
+        "rules": [{"rule": "around", "object": "chair", "target": "desk"},
+                  {"rule": "near", "object": "armchair", "target": "desk"}]})
+    ids = list(plan.ids)
+    rel = related_pairs(ids, compile_plan(plan).bindings, {o.id: o for o in plan.objects})
+    desk, chair, arm = (ids.index(i) for i in ("desk", "chair", "armchair"))
+    assert rel[desk, chair] and not rel[chair, desk]
+    assert not rel[desk, arm]  # an armchair is used itself: its leg room is its own
+
+
 @pytest.mark.parametrize("width, blocked", [(0.6, False), (0.8, False), (1.0, True), (2.0, True)])
 def test_an_access_zone_is_free_where_a_stretch_a_person_wide_is(width, blocked):
     # a box in the middle of the bed's free side leaves 0.7 m at either end of it; a stretch

@@ -311,8 +311,8 @@ def related_pairs(ids: Sequence[str], bindings: Sequence[Binding],
     ``next_to``, ``near``, ``in_front_of``, ``around``, ...) lets the object
     stand in the target's zones (the chair at the desk, the nightstand at the
     head of the bed), not the target in the object's. An object that needs a
-    zone of its own (``access_of``: from the plan, a rule or its category) is
-    used where it stands, and keeps out of the target's zones all the same: a
+    zone of its own (``access_of``: from the plan or its category) is used
+    where it stands, and keeps out of the target's zones all the same: a
     kitchen island in front of a counter stands beyond the counter's zone, a
     dresser next to a bed beside its head, not along its side. A rule that
     keeps no closeness (``facing``, ``aligned_with``) lets neither: a dresser
@@ -338,8 +338,9 @@ def related_pairs(ids: Sequence[str], bindings: Sequence[Binding],
         if b.object not in row or b.target not in row or b.rule.closeness != "close":
             continue
         if plan_objects is not None and b.object in plan_objects and b.object not in used:
-            used[b.object] = access_of(plan_objects[b.object],
-                                       [c for c in bindings if c.object == b.object]) is not None
+            # its own use, from the plan or its category: not the room a rule asks of it
+            # there (a chair around a desk, pulled out, is still at the desk)
+            used[b.object] = access_of(plan_objects[b.object]) is not None
         if not used.get(b.object, False):
             related[row[b.target], row[b.object]] = True
     return related

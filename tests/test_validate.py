@@ -644,12 +644,14 @@ _USED = {"sides": ["back"], "depth": 0.9}
     ([{"rule": "in_front_of", "object": "island", "target": "counter",
        "params": {"distance": 1.3}}], False, []),
     ([{"rule": "in_front_of", "object": "counter", "target": "island"}], False, ["counter"]),
-    # ... unless the object is used itself: an island with free floor behind it for its
-    # stools keeps out of the counter's zone as well
+    # ... unless the rule stands it in front of (or behind) the target and the object is
+    # used itself: an island with free floor behind it for its stools keeps out of the
+    # counter's zone as well
     ([{"rule": "in_front_of", "object": "island", "target": "counter",
        "params": {"distance": 1.3}}], _USED, ["counter", "island"]),
+    # side by side (next_to, near), each lets the other in: a run of counters at a corner
     ([{"rule": "near", "object": "island", "target": "counter"},
-      {"rule": "near", "object": "counter", "target": "island"}], _USED, ["counter", "island"]),
+      {"rule": "near", "object": "counter", "target": "island"}], _USED, []),
     # a rule that keeps no closeness lets neither: a bed facing a dresser does not block it
     ([{"rule": "facing", "object": "island", "target": "counter"}], _USED,
      ["counter", "island"]),
@@ -681,7 +683,7 @@ def test_a_chair_around_a_desk_is_let_into_its_zone_whatever_room_its_rule_asks(
                     {"id": "chair", "category": "chair", "size": [0.5, 0.5, 0.9]},
                     {"id": "armchair", "category": "armchair", "size": [0.8, 0.8, 0.9]}],
         "rules": [{"rule": "around", "object": "chair", "target": "desk"},
-                  {"rule": "near", "object": "armchair", "target": "desk"}]})
+                  {"rule": "in_front_of", "object": "armchair", "target": "desk"}]})
     ids = list(plan.ids)
     rel = related_pairs(ids, compile_plan(plan).bindings, {o.id: o for o in plan.objects})
     desk, chair, arm = (ids.index(i) for i in ("desk", "chair", "armchair"))

@@ -310,11 +310,12 @@ def related_pairs(ids: Sequence[str], bindings: Sequence[Binding],
     A rule that keeps its object close to its target (``closeness="close"``:
     ``next_to``, ``near``, ``in_front_of``, ``around``, ...) lets the object
     stand in the target's zones (the chair at the desk, the nightstand at the
-    head of the bed), not the target in the object's. An object that needs a
-    zone of its own (``access_of``: from the plan or its category) is used
-    where it stands, and keeps out of the target's zones all the same: a
-    kitchen island in front of a counter stands beyond the counter's zone, a
-    dresser next to a bed beside its head, not along its side. A rule that
+    head of the bed, the run of counters next to a corner unit), not the target
+    in the object's. An object that a rule stands in front of or behind its
+    target (``in_front_of``, ``behind``: its start place) and that needs a zone
+    of its own (``access_of``: from the plan or its category) is used where it
+    stands, and keeps out of the target's zones all the same: a kitchen island
+    in front of a counter stands beyond the counter's zone. A rule that
     keeps no closeness (``facing``, ``aligned_with``) lets neither: a dresser
     that a bed faces does not block the bed's side.
 
@@ -333,16 +334,16 @@ def related_pairs(ids: Sequence[str], bindings: Sequence[Binding],
     """
     row = {oid: k for k, oid in enumerate(ids)}
     related = np.zeros((len(ids), len(ids)), dtype=bool)
-    used: dict[str, bool] = {}
     for b in bindings:
         if b.object not in row or b.target not in row or b.rule.closeness != "close":
             continue
-        if plan_objects is not None and b.object in plan_objects and b.object not in used:
-            # its own use, from the plan or its category: not the room a rule asks of it
-            # there (a chair around a desk, pulled out, is still at the desk)
-            used[b.object] = access_of(plan_objects[b.object]) is not None
-        if not used.get(b.object, False):
-            related[row[b.target], row[b.object]] = True
+        hint = b.rule.start
+        if plan_objects is not None and b.object in plan_objects and hint is not None \
+                and hint.place in ("front", "back") \
+                and access_of(plan_objects[b.object]) is not None:
+            continue  # used itself, from the plan or its category (not the room a rule
+            # asks of it there: a chair around a desk, pulled out, is still at the desk)
+        related[row[b.target], row[b.object]] = True
     return related
 
 

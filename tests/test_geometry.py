@@ -222,6 +222,25 @@ def test_openings_centres_are_every_one_or_the_one_picked():
     assert np.allclose(doors.centres(2), doors.centre)  # past the last: every one
 
 
+def test_openings_zones_are_boxes_in_front_as_wide_as_each_opening():
+    room = RoomGeometry.from_room(fl.Plan.from_dict({
+        "name": "hall", "room": {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]],
+                                 "windows": [{"wall": 0, "offset": 1.0, "width": 1.2},
+                                             {"wall": 1, "offset": 1.5, "width": 0.8}]},
+        "objects": [{"id": "box", "category": "box", "size": [0.5, 0.5, 0.5]}]}).room)
+    w = room.windows
+    centre, half = w.zones(0.5)  # one depth for all
+    assert np.allclose(centre, [[1.0, 0.25], [3.75, 1.5]])
+    assert np.allclose(half, [[0.6, 0.25], [0.4, 0.25]])
+    centre, half = w.zones(np.array([0.5, 1.0]))  # one per window
+    assert np.allclose(centre[1], [3.5, 1.5]) and np.allclose(half[:, 1], [0.25, 0.5])
+    centre, half = w.zones(np.array([[0.2, 0.6, 1.0]]))  # one per item, for every window
+    assert centre.shape == half.shape == (2, 3, 2)
+    assert np.allclose(half[:, :, 1], [[0.1, 0.3, 0.5]] * 2)
+    assert np.allclose(half[:, :, 0], [[0.6] * 3, [0.4] * 3])
+    assert np.allclose(centre[0, 2], [1.0, 0.5])
+
+
 @settings(max_examples=60, deadline=None)
 @given(box, coord, coord)
 def test_facing_point_is_the_nearest_point_of_the_rectangle_or_its_centre(b, px, py):

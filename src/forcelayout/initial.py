@@ -86,8 +86,9 @@ class _Wants:
     # off its front (StartHint.cone), degrees
     cones: dict[int, float] = field(default_factory=dict)
     # standing in front of or behind its parent: the depth of its own access zone on its
-    # side towards the parent (an island in front of a counter, its back zone towards it),
-    # metres; the start keeps that much floor between the two
+    # side towards the parent, or of the parent's zone on that side where it may not stand
+    # in it, the deeper (an island in front of a counter; :func:`_own_gaps`), metres; the
+    # start keeps that much floor between the two
     own_gap: float = 0.0
     # the wall objects (ids) it is turned towards by a rule (a beanbag facing the TV on the
     # wall): they are hung after the floor settles, where they meet the most such rules

@@ -33,7 +33,7 @@ from forcelayout.surfaces.plane import (
 )
 
 __all__ = ["EYE_LEVEL", "REACH", "MARGIN", "wall_pose", "wall_band", "binding_walls",
-           "free_wall_stretches", "hanging_centres", "hidden_heights", "back_wall",
+           "fits_band", "free_wall_stretches", "hanging_centres", "hidden_heights", "back_wall",
            "place_on_walls", "unhung", "Unhung", "unseen", "Unseen"]
 
 #: Eye level, metres: wall objects settle with their centre near this height.

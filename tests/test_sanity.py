@@ -16,7 +16,13 @@ from forcelayout.autofix import autofix
 from forcelayout.cli import main
 from forcelayout.diagnose import FeasibilityWarning, feasibility
 from forcelayout.sampling import FewLayoutsWarning
-from forcelayout.sanity import category_key, convex_corners, out_of_reach, plan_findings
+from forcelayout.sanity import (
+    category_key,
+    convex_corners,
+    facing_apart,
+    out_of_reach,
+    plan_findings,
+)
 
 ROOM = {"polygon": [[0, 0], [4, 0], [4, 3.5], [0, 3.5]], "height": 2.7,
         "doors": [{"wall": 0, "offset": 1.0, "width": 0.9}]}
@@ -732,6 +738,7 @@ def test_two_objects_facing_across_the_room_too_far_for_their_near_rule_are_foun
     """A sofa and its TV stand at walls facing each other: 3.35 m apart at the least across
     a 4.6 m room, so near 3 m is never met (a new user's studio: 0 of 80 samples)."""
     (f,) = [f for f in plan_findings(_sofa_and_tv(3.0)) if f.path == "rules[2] (near)"]
+    assert facing_apart(_sofa_and_tv(3.0)) == [f]
     assert f.severity == "infeasible"
     assert "stand 3.35 m apart at the least" in f.message
     assert "give rules[2] a distance of 3.4 m" in f.fix

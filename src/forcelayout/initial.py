@@ -864,8 +864,11 @@ def start_poses(
     ``fixes`` times the objects at fault (those blocking a path, colliding,
     in a door swing or a window zone, or with an unmet rule) and the objects
     that start beside them (the second time their parents too) are drawn
-    again elsewhere (:func:`relocate`), kept if fewer failures remain. The
-    caller stops drawing when it has what it needs.
+    again elsewhere (:func:`relocate`), kept if fewer failures remain. A
+    start that passes with bindings unmet, as ``misses`` allows, has the
+    objects of those drawn once more (with ``fixes`` > 0), kept if it still
+    passes with fewer unmet. The caller stops drawing when it has what it
+    needs.
 
     Yields
     ------
@@ -959,6 +962,19 @@ class Starts:
                                            pos, yaw, self.tries, self.spread)
             again = yield _judging(model, p2, y2)
             if len(again.failures) < len(verdict.failures):
+                pos, yaw, verdict = p2, y2, again
+        if self.fixes > 0 and verdict.unmet and verdict.passes(self.misses):
+            # passes with rules unmet, as the sample allows: the objects of those rules
+            # are drawn once more, kept if it still passes with fewer unmet (a bin left
+            # in mid-floor finds a spot at a wall), so the rules a start drops are those
+            # it cannot meet rather than the first it missed
+            rows = np.zeros(model.n, dtype=bool)
+            rows[sorted(verdict.at_fault)] = True
+            rows = _movers(placer.parent, rows)
+            p2, y2 = yield RelocateRequest(placer, rng, tuple(np.flatnonzero(rows).tolist()),
+                                           pos, yaw, self.tries, self.spread)
+            again = yield _judging(model, p2, y2)
+            if again.passes(self.misses) and again.unmet < verdict.unmet:
                 pos, yaw, verdict = p2, y2, again
         return pos, yaw, verdict
 

@@ -305,6 +305,53 @@ def test_a_child_in_front_of_its_parent_starts_beyond_its_own_zone_towards_it():
         assert 0.9 <= lay.gap("island", "counter") <= 1.3
 
 
+def _rows_of_seats(extra: list[dict]) -> fl.Plan:
+    """A screen on a console at a wall, a seat in front of it and a seat 0.6 m behind that
+    one (seats keep 0.5 m of leg room in front), and ``extra`` rules."""
+    return fl.Plan.from_dict({
+        "name": "cinema", "room": {"polygon": [[0, 0], [5, 0], [5, 6], [0, 6]], "height": 2.6},
+        "objects": [{"id": "console", "category": "tv_stand", "size": [1.8, 0.45, 0.5]},
+                    {"id": "seat_1", "category": "armchair", "size": [0.8, 0.85, 0.9]},
+                    {"id": "seat_2", "category": "armchair", "size": [0.8, 0.85, 0.9]}],
+        "rules": [{"rule": "at_wall", "object": "console"},
+                  {"rule": "in_front_of", "object": "seat_1", "target": "console",
+                   "params": {"distance": 3.0}},
+                  {"rule": "facing", "object": "seat_1", "target": "console"},
+                  {"rule": "behind", "object": "seat_2", "target": "seat_1",
+                   "params": {"distance": 0.6}},
+                  {"rule": "face_same_as", "object": "seat_2", "target": "seat_1"},
+                  *extra]})
+
+
+def _start_layouts(plan: fl.Plan, n: int) -> list[fl.Layout]:
+    model = ForceModel(plan)
+    out = []
+    for s in range(n):
+        pos, yaw = propose_poses(model, np.random.default_rng(s))
+        out.append(fl.Layout(plan, {oid: fl.Pose(float(p[0]), float(p[1]), float(y))
+                                    for oid, p, y in zip(model.ids, pos, yaw, strict=True)}))
+    return out
+
+
+def test_a_child_behind_its_parent_starts_within_the_gap_its_rule_allows():
+    """A second row of seats 0.6 m behind the first starts 0.5 m behind it, beyond its own
+    leg room and within the rule's distance (it had started 0.6 to 0.9 m behind, and the
+    start kept ``behind`` as the one rule it may leave unmet in 19 of 20 layouts)."""
+    for lay in _start_layouts(_rows_of_seats([]), 20):
+        assert 0.45 <= lay.gap("seat_2", "seat_1") <= 0.6
+
+
+def test_a_child_in_front_of_its_parent_starts_as_far_as_a_rule_keeps_it():
+    """``far_from`` the screen by 2 m: the front row starts 2 m or more from the console,
+    within its ``in_front_of`` distance (it had started 0.6 to 0.9 m off it)."""
+    plan = _rows_of_seats([{"rule": "far_from", "object": "seat_1", "target": "console",
+                            "params": {"distance": 2.0}}])
+    for lay in _start_layouts(plan, 20):
+        assert 2.0 <= lay.gap("seat_1", "console") <= 3.0
+    for lay in _start_layouts(_rows_of_seats([]), 20):  # without it, close in front
+        assert lay.gap("seat_1", "console") <= 1.0
+
+
 def test_a_start_in_the_middle_spreads_over_the_share_the_rule_allows():
     plan = fl.Plan.from_dict({
         "name": "middle",

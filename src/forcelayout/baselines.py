@@ -255,7 +255,7 @@ def _compile(plan: Plan) -> _Compiled:
             hint = cls.start
             if hint is not None and (hint.reach or hint.which) is not None:
                 params = cls.Params(**(spec.params or {}))
-                if hint.reach is not None:
+                if hint.reach is not None and hint.place in ("window", "door", "middle"):
                     bound = float(getattr(params, hint.reach))
                     reach[spec.object] = max(reach.get(spec.object, 0.0), bound)
                 if hint.which is not None and int(getattr(params, hint.which)) >= 0:

@@ -90,6 +90,12 @@ class _Wants:
     # in it, the deeper (an island in front of a counter; :func:`_own_gaps`), metres; the
     # start keeps that much floor between the two
     own_gap: float = 0.0
+    # standing in front of or behind its parent: the largest footprint gap its rules allow
+    # (StartHint.reach there), metres
+    gap: float = np.inf
+    # per target row, the smallest footprint gap a rule asks of it (StartHint.least), metres:
+    # kept where it starts in front of or behind that target
+    apart: dict[int, float] = field(default_factory=dict)
     # the wall objects (ids) it is turned towards by a rule (a beanbag facing the TV on the
     # wall): they are hung after the floor settles, where they meet the most such rules
     views: set[str] = field(default_factory=set)
@@ -201,8 +207,12 @@ def _wants(model: ForceModel) -> list[_Wants]:
                 w.places.add(hint.place)
             if hint.turn is not None:
                 w.turns.add(hint.turn)
-            if hint.reach is not None:
+            if hint.reach is not None and hint.place in ("front", "back"):
+                w.gap = min(w.gap, float(getattr(g.params, hint.reach)[b]))
+            elif hint.reach is not None:
                 w.reach = max(w.reach, float(getattr(g.params, hint.reach)[b]))
+            if hint.least is not None and j >= 0:
+                w.apart[j] = max(w.apart.get(j, 0.0), float(getattr(g.params, hint.least)[b]))
             if hint.cone is not None and j >= 0:
                 w.cones[j] = min(w.cones.get(j, 180.0), float(getattr(g.params, hint.cone)[b]))
             if hint.which is not None and getattr(g.params, hint.which)[b] >= 0:
@@ -508,7 +518,17 @@ def _child_candidates(room, draws: _Draws, k, wants: _Wants, q: np.ndarray, r, p
         return pq + draws.normal(0.05, (k, 2)), same
     if places & {"front", "back"}:
         sign = -1.0 if "back" in places else 1.0
-        dist = hq[:, 1:2] + half[r, 1] + wants.own_gap + draws.uniform(0.1, 0.1 + spread, k)
+        # beyond its own zone (or the parent's), within the gap its rules allow, a little
+        # less as their forces aim (two rows of seats 0.6 m apart)
+        lo, hi = wants.own_gap + 0.1, wants.own_gap + 0.1 + spread
+        if np.isfinite(wants.gap):
+            cap = wants.gap - min(0.1, 0.5 * wants.gap)
+            lo, hi = min(lo, cap), max(min(hi, cap), min(lo, cap))
+        # and at least as far as a rule keeps it from that parent (a viewing distance)
+        least = np.array([wants.apart.get(int(p), 0.0) for p in q])[:, None]  # (B, 1)
+        lo = np.maximum(lo, least + np.where(least > 0, 0.05, 0.0))
+        hi = np.maximum(hi, lo)
+        dist = hq[:, 1:2] + half[r, 1] + draws.uniform(lo, hi, k)
         # centred, or anywhere along the parent's width (three stools at one island)
         reach = np.maximum(hq[:, 0] - half[r, 0], 0.0)[:, None]
         centred = draws.random(k) < 0.5

@@ -89,7 +89,15 @@ class StartHint:
         ``place="window"`` or ``"door"``: metres from the opening's centre
         (``"distance"`` of ``near_door``); with ``place="middle"``: a fraction
         of the room's extent from the centroid, per axis (``"fraction"`` of
-        ``in_middle``).
+        ``in_middle``); with ``place="front"`` or ``"back"``: the largest
+        footprint gap to the target, metres (``"distance"`` of ``behind``):
+        the start's gap stays within it.
+    least : str, optional
+        The name of the rule's parameter that gives the smallest footprint
+        gap to the target, metres (``"distance"`` of ``far_from``): an
+        object that starts in front of or behind that target (another rule's
+        ``place="front"`` or ``"back"``) starts at least that far from it (the
+        front row of seats a viewing distance from the screen).
     which : str, optional
         With ``place="window"`` or ``"door"``: the name of the rule's
         parameter that picks one opening of that kind by its index in the
@@ -113,10 +121,14 @@ class StartHint:
     reach: str | None = None
     which: str | None = None
     cone: str | None = None
+    least: str | None = None
 
     PLACES: ClassVar[frozenset[str]] = frozenset(
         {"wall", "corner", "middle", "window", "door", "beside", "left", "right", "front",
          "back", "all_round", "beneath"})
+    #: The places ``reach`` may bound.
+    REACH_PLACES: ClassVar[frozenset[str]] = frozenset({"window", "door", "middle", "front",
+                                                        "back"})
     #: The turns towards the room's openings, and which openings (``RoomGeometry`` fields).
     OPENING_TURNS: ClassVar[dict[str, str]] = {"face_window": "windows", "face_door": "doors"}
     TURNS: ClassVar[frozenset[str]] = frozenset({"face_target", "target_heading",
@@ -127,10 +139,10 @@ class StartHint:
             raise ValueError(f"StartHint.place {self.place!r} is not one of {sorted(self.PLACES)}")
         if self.turn is not None and self.turn not in self.TURNS:
             raise ValueError(f"StartHint.turn {self.turn!r} is not one of {sorted(self.TURNS)}")
-        if self.reach is not None and self.place not in ("window", "door", "middle"):
-            raise ValueError("StartHint.reach bounds a start near an opening or the middle: "
-                             "give it with place='window', 'door' or 'middle', not "
-                             f"place={self.place!r}")
+        if self.reach is not None and self.place not in self.REACH_PLACES:
+            raise ValueError("StartHint.reach bounds a start near an opening, the middle or "
+                             "its target: give it with place='window', 'door', 'middle', "
+                             f"'front' or 'back', not place={self.place!r}")
         if self.cone is not None and self.turn != "face_target":
             raise ValueError("StartHint.cone spreads a start over the angle its target may "
                              "lie at: give it with turn='face_target', not "
@@ -617,7 +629,7 @@ class Rule:
                             "needs target = 'required' (the object it rests on)")
         if cls.start is not None and not isinstance(cls.start, StartHint):
             raise TypeError(f"{cls.__qualname__}.start must be a StartHint or None")
-        for attr in ("reach", "which", "cone"):
+        for attr in ("reach", "which", "cone", "least"):
             named = getattr(cls.start, attr) if cls.start is not None else None
             if named is not None and named not in cls.Params.model_fields:
                 raise TypeError(f"{cls.__qualname__}.start.{attr} names {named!r}, which is "

@@ -153,6 +153,7 @@ class FarFrom(Rule):
 
     aliases = ("away_from", "far")
     closeness = "far"
+    start = StartHint(least="distance")
 
     target = "required"
     weight = 1.0
@@ -360,7 +361,7 @@ class InFrontOf(_Side):
 
     _sign, _front = 1.0, True
     bond = True
-    start = StartHint(place="front", parent=2)
+    start = StartHint(place="front", parent=2, reach="distance")
 
 
 class Behind(_Side):
@@ -374,7 +375,7 @@ class Behind(_Side):
     aliases = ("behind_of",)
 
     _sign, _front = -1.0, True
-    start = StartHint(place="back", parent=3)
+    start = StartHint(place="back", parent=3, reach="distance")
 
 
 class LeftOf(_Side):

@@ -392,6 +392,22 @@ def test_access_true_is_the_category_default():
     assert plan.objects[0].access is None
 
 
+def test_a_room_in_centimetres_is_named_as_such():
+    """A room and its objects all in centimetres fit one another: the room's own size says
+    it (it had passed ``validate`` and failed in the free-space grid, asking for a coarser
+    grid)."""
+    data = {"name": "cm", "room": {"polygon": [[0, 0], [340, 0], [340, 380], [0, 380]],
+                                   "height": 260},
+            "objects": [{"id": "desk", "category": "desk", "size": [120, 60, 75]}]}
+    with pytest.raises(PlanError) as err:
+        Plan.from_dict(data)
+    assert "room.polygon: the room is 340 x 380 m" in str(err.value)
+    assert "divide them by 100 or 1000" in str(err.value)
+    data["room"]["polygon"] = [[0, 0], [60, 0], [60, 40], [0, 40]]  # a hall: no finding
+    data["room"]["height"], data["objects"][0]["size"] = 6, [1.2, 0.6, 0.75]
+    Plan.from_dict(data)
+
+
 def test_sizes_in_millimetres_are_named_as_such():
     data = {"name": "mm", "room": {"polygon": [[0, 0], [4, 0], [4, 3], [0, 3]]},
             "objects": [{"id": "bed", "category": "bed", "size": [900, 1900, 450]},

@@ -74,6 +74,9 @@ MAX_FLOOR_FILL = 0.6
 
 #: A size this large (metres) in a plan most likely was given in centimetres or millimetres.
 _UNIT_SLIP = 20.0
+#: No room is this many metres across (the free-space grid of a larger one is too big):
+#: a room's coordinates past it are taken for centimetres or millimetres.
+_ROOM_UNIT_SLIP = 100.0
 #: Categories (or words of a category) that are walkable floor covers by default.
 WALKABLE_CATEGORIES = frozenset({"rug", "carpet", "mat", "doormat", "runner"})
 #: Objects at most this high (metres) are walkable floor covers by default.
@@ -608,6 +611,11 @@ def _semantic_problems(plan: Plan) -> Iterator[Problem]:
                       "no repeated vertices) with non-zero area; list its corners in order"
                       + _polygon_fault(room.polygon))
         return
+    x0, y0, x1, y1 = poly.bounds
+    if max(x1 - x0, y1 - y0) > _ROOM_UNIT_SLIP:  # no room is 100 m across: a unit slip
+        yield Problem("room.polygon", f"the room is {x1 - x0:g} x {y1 - y0:g} m; coordinates "
+                      "and sizes are in metres (this looks like centimetres or millimetres: "
+                      "divide them by 100 or 1000)")
     n_walls = len(room.polygon)
     for kind, openings in (("doors", room.doors), ("windows", room.windows)):
         for k, o in enumerate(openings):

@@ -238,6 +238,9 @@ def test_layout_json_round_trip(small_run, tmp_path):
     path = lay.save(tmp_path / "l.json")
     back = fl.Layout.load(path, lay.plan)
     assert back == lay
+    with pytest.raises(ValueError, match=r"pass plan=.*save\(path, include_plan=True\)"):
+        fl.Layout.load(path)  # nothing says which plan
+    assert fl.Layout.load(lay.save(tmp_path / "p.json", include_plan=True)) == lay
     data = lay.to_dict()
     assert set(data["objects"]["bed"]) >= {"x", "y", "yaw", "surface"}
     assert data["plan"] == "small" and data["seed"] == lay.seed

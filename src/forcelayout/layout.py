@@ -252,7 +252,8 @@ class Layout:
         if plan is None:
             if "plan_spec" not in data:
                 raise ValueError("layout JSON has no embedded plan and no plan.json beside "
-                                 "it; pass plan=... (forcelayout.load_plan(path))")
+                                 "it; pass plan=... (forcelayout.load_plan(path)), or write "
+                                 "it with save(path, include_plan=True)")
             plan = Plan.from_dict(data["plan_spec"])
         unknown = set(data.get("objects", {})) - set(plan.ids)
         if unknown:

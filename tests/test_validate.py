@@ -728,14 +728,13 @@ def test_a_chair_around_a_table_needs_room_behind_it(gap, blocked):
 def test_layout_zones_lie_beside_the_sides_they_serve():
     from forcelayout.access import layout_zones
 
-    plan = Plan.from_dict({**ACCESS_PLAN.model_dump(), "rules": [
-        {"rule": "in_front_of", "object": "box", "target": "wardrobe"}]})
-    lay = Layout(plan, {"wardrobe": Pose(1.5, 0.3, 0.0), "box": Pose(1.5, 1.0, 0.0),
+    plan = _box_in_front_of("desk")
+    lay = Layout(plan, {"desk": Pose(1.5, 0.3, 0.0), "box": Pose(1.5, 1.0, 0.0),
                         "bed": Pose(0.7, 2.0, 0.5 * math.pi)})
     zones = {(oid, side): c for oid, side, c in layout_zones(lay)}
-    assert set(zones) == {("wardrobe", "front"), ("bed", "left"), ("bed", "right")}
-    # the wardrobe's front zone: as wide as the wardrobe, deeper by the box in front of it
-    lo, hi = zones["wardrobe", "front"].min(0), zones["wardrobe", "front"].max(0)
+    assert set(zones) == {("desk", "front"), ("bed", "left"), ("bed", "right")}
+    # the desk's front zone: as wide as the desk, deeper by the box in front of it
+    lo, hi = zones["desk", "front"].min(0), zones["desk", "front"].max(0)
     np.testing.assert_allclose([lo, hi], [[1.0, 0.6], [2.0, 1.8]], atol=1e-9)
     # the bed turned a quarter: its long sides face -y and +y, 0.5 m deep, 2 m long
     for side in ("left", "right"):
@@ -794,16 +793,45 @@ def test_an_object_fails_the_access_check_exactly_when_no_zone_of_it_is_free(see
     assert named == none_free
 
 
+def _box_in_front_of(category: str, rule: str = "in_front_of") -> Plan:
+    """:data:`ACCESS_PLAN` with its wardrobe as an object of ``category`` (id the same),
+    and the box bound to it by ``rule``."""
+    objects = ACCESS_PLAN.model_dump()["objects"]
+    objects[0] = {**objects[0], "id": category, "category": category}
+    return Plan.from_dict({**ACCESS_PLAN.model_dump(), "objects": objects, "rules": [
+        {"rule": rule, "object": "box", "target": category}]})
+
+
 def test_access_check_lets_related_objects_stand_in_a_zone():
-    plan = Plan.from_dict({**ACCESS_PLAN.model_dump(), "rules": [
-        {"rule": "in_front_of", "object": "box", "target": "wardrobe"}]})
-    lay = Layout(plan, {"wardrobe": Pose(1.5, 0.3, 0.0), "box": Pose(1.5, 1.0, 0.0)})
+    plan = _box_in_front_of("desk")
+    lay = Layout(plan, {"desk": Pose(1.5, 0.3, 0.0), "box": Pose(1.5, 1.0, 0.0)})
     assert not check_layout(lay, access_clearance=True).failed("access")
-    # the free floor starts behind the box: the wardrobe's zone is the box deeper
-    lay = Layout(plan, {"wardrobe": Pose(1.5, 0.3, 0.0), "box": Pose(1.5, 1.0, 0.0),
+    # the free floor starts behind the box: the desk's zone is the box deeper
+    lay = Layout(plan, {"desk": Pose(1.5, 0.3, 0.0), "box": Pose(1.5, 1.0, 0.0),
                         "bed": Pose(1.5, 2.3, 0.5 * math.pi)})
-    assert any("'wardrobe'" in f and "front (1.20 m deep) blocked by 'bed'" in f
+    assert any("'desk'" in f and "front (1.20 m deep) blocked by 'bed'" in f
                for f in check_layout(lay, access_clearance=True).failures)
+
+
+@pytest.mark.parametrize("rule, blocked", [("in_front_of", True), ("near", True),
+                                           ("next_to", False)])
+def test_only_an_object_beside_them_stands_where_doors_open(rule, blocked):
+    """Doors open into a wardrobe's zone: a box a rule puts in front of it or near it
+    blocks it all the same (a bench in front of a wardrobe stands beyond its doors); one
+    standing beside it, the next unit of a run, may reach into it."""
+    from forcelayout.access import access_of
+
+    plan = _box_in_front_of("wardrobe", rule)
+    assert access_of(plan.object("wardrobe")).doors
+    assert not access_of(plan.object("bed")).doors
+    lay = Layout(plan, {"wardrobe": Pose(1.5, 0.3, 0.0), "box": Pose(1.5, 1.0, 0.0)})
+    assert check_layout(lay, access_clearance=True).failed("access") == blocked
+    # a plan may say so of any object
+    objects = plan.model_dump()["objects"]
+    objects[0]["access"] = {"sides": ["front"], "depth": 0.6, "doors": False}
+    lay = Layout(Plan.from_dict({**plan.model_dump(), "objects": objects}),
+                 {"wardrobe": Pose(1.5, 0.3, 0.0), "box": Pose(1.5, 1.0, 0.0)})
+    assert not check_layout(lay, access_clearance=True).failed("access")
 
 
 @pytest.mark.parametrize("kwargs, says", [

@@ -49,25 +49,33 @@ _LONG_SIDES = ("left", "right")  # of a footprint deeper than wide, as a bed's i
 #: Default access by category word: which sides need free floor, and how deep (metres).
 #: A bed's sides are its long sides: left and right, or front and back for one wider
 #: than deep (a sofa bed or a crib along a wall).
+#: Doors or drawers open into the zones of wardrobes, fridges, ovens, dishwashers, washers,
+#: dryers, dressers, cabinets and lockers (``Access.doors``).
 CATEGORY_ACCESS: dict[str, Access] = {
     **{w: Access(_LONG_SIDES, 0.5) for w in ("bed", "beds", "bunk", "crib", "cot", "daybed",
                                              "sofabed")},
     **{w: Access(_FRONT, 0.6) for w in (
-        "wardrobe", "closet", "armoire", "desk", "workbench", "counter", "countertop",
-        "worktop", "sink", "vanity", "dishwasher", "washer", "dryer", "laundry", "shower",
+        "desk", "workbench", "counter", "countertop", "worktop", "sink", "vanity", "shower",
         "bathtub", "tub", "changing")},
-    **{w: Access(_FRONT, 0.7) for w in ("fridge", "refrigerator", "freezer", "stove", "oven",
-                                         "range", "cooktop", "hob")},
+    **{w: Access(_FRONT, 0.6, doors=True) for w in (
+        "wardrobe", "closet", "armoire", "dishwasher", "washer", "dryer", "laundry")},
+    **{w: Access(_FRONT, 0.7) for w in ("cooktop", "hob")},
+    **{w: Access(_FRONT, 0.7, doors=True) for w in ("fridge", "refrigerator", "freezer",
+                                                     "stove", "oven", "range")},
     **{w: Access(_FRONT, 0.5) for w in (
-        "dresser", "drawers", "chest", "cabinet", "sideboard", "bookshelf", "bookcase",
-        "shelves", "shelving", "sofa", "couch", "loveseat", "sectional", "toilet", "piano",
-        "locker", "pantry", "hutch", "armchair", "recliner", "beanbag")},
+        "bookshelf", "bookcase", "shelves", "shelving", "sofa", "couch", "loveseat",
+        "sectional", "toilet", "piano", "armchair", "recliner", "beanbag")},
+    **{w: Access(_FRONT, 0.5, doors=True) for w in (
+        "dresser", "drawers", "chest", "cabinet", "sideboard", "locker", "pantry", "hutch")},
 }
 
 #: Category words of things used from above or carried, that need no free side whatever
 #: word before them says (a ``laundry_basket`` is no laundry machine, a ``kitchen_bin`` no
 #: kitchen counter).
 NO_ACCESS_WORDS = frozenset({"basket", "hamper", "bin", "can", "bag", "mat"})
+
+#: Start places of rules that stand their object beside the target, not in front of it.
+_BESIDE_PLACES = ("beside", "left", "right")
 
 _DIRS = {"front": (0.0, 1.0), "back": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
 
@@ -95,7 +103,7 @@ def access_of(obj: SceneObject, bindings: Sequence[Binding] = ()) -> Access | No
     if obj.access is False:
         return None
     if obj.access is not None:
-        return Access(tuple(obj.access.sides), float(obj.access.depth))
+        return Access(tuple(obj.access.sides), float(obj.access.depth), obj.access.doors)
     for b in bindings:
         if b.object == obj.id and b.rule.access is not None:
             return b.rule.access
@@ -107,7 +115,7 @@ def access_of(obj: SceneObject, bindings: Sequence[Binding] = ()) -> Access | No
         if word in CATEGORY_ACCESS:
             acc = CATEGORY_ACCESS[word]
             if acc.sides == _LONG_SIDES and obj.size[0] > obj.size[1]:
-                return Access(("front", "back"), acc.depth)  # its long sides
+                return Access(("front", "back"), acc.depth, acc.doors)  # its long sides
             return acc
     return None
 
@@ -315,9 +323,13 @@ def related_pairs(ids: Sequence[str], bindings: Sequence[Binding],
     target (``in_front_of``, ``behind``: its start place) and that needs a zone
     of its own (``access_of``: from the plan or its category) is used where it
     stands, and keeps out of the target's zones all the same: a kitchen island
-    in front of a counter stands beyond the counter's zone. A rule that
-    keeps no closeness (``facing``, ``aligned_with``) lets neither: a dresser
-    that a bed faces does not block the bed's side.
+    in front of a counter stands beyond the counter's zone. Where doors or
+    drawers open into the target's zones (``Access.doors``: a wardrobe, a
+    fridge), only a rule that stands its object beside the target (start place
+    ``beside``, ``left``, ``right``: ``next_to``, the next unit of a run) lets
+    it in: a bench ``in_front_of`` a wardrobe or a basket ``near`` it keeps
+    out. A rule that keeps no closeness (``facing``, ``aligned_with``) lets
+    neither: a dresser that a bed faces does not block the bed's side.
 
     Parameters
     ----------
@@ -325,8 +337,9 @@ def related_pairs(ids: Sequence[str], bindings: Sequence[Binding],
         The object of each row.
     bindings : sequence of Binding
     plan_objects : dict of str to SceneObject, optional
-        The plan's objects, to tell which need a zone of their own; without them
-        every close rule lets its object in.
+        The plan's objects, to tell which need a zone of their own and which
+        open doors into theirs; without them every close rule lets its object
+        in.
 
     Returns
     -------
@@ -334,10 +347,18 @@ def related_pairs(ids: Sequence[str], bindings: Sequence[Binding],
     """
     row = {oid: k for k, oid in enumerate(ids)}
     related = np.zeros((len(ids), len(ids)), dtype=bool)
+    doors: dict[str, bool] = {}  # per target: whether doors open into its zones
     for b in bindings:
         if b.object not in row or b.target not in row or b.rule.closeness != "close":
             continue
         hint = b.rule.start
+        if plan_objects is not None and b.target in plan_objects:
+            if b.target not in doors:
+                acc = access_of(plan_objects[b.target],
+                                [c for c in bindings if c.object == b.target])
+                doors[b.target] = acc is not None and acc.doors
+            if doors[b.target] and (hint is None or hint.place not in _BESIDE_PLACES):
+                continue  # not in front of its doors, whichever rule keeps it close
         if plan_objects is not None and b.object in plan_objects and hint is not None \
                 and hint.place in ("front", "back") \
                 and access_of(plan_objects[b.object]) is not None:

@@ -146,6 +146,9 @@ class ObjectAccess(_Model):
     sides: list[Literal["front", "back", "left", "right"]] = Field(
         min_length=1, description="Sides that need free floor, e.g. ['front'].")
     depth: PositiveMetres = Field(0.6, description="Depth of the free floor, m.")
+    doors: bool = Field(False, description=(
+        "Doors or drawers open into the free floor: only an object a rule stands beside "
+        "it (next_to) may stand there, not one a rule puts in front of it or near it."))
 
 
 class SceneObject(_Model):

@@ -164,10 +164,16 @@ class Access:
         of them (e.g. either long side of a bed).
     depth : float
         Depth of the free floor in front of that side, metres.
+    doors : bool
+        Doors or drawers open into the free floor (a wardrobe, a fridge): only an
+        object a rule stands beside the owner (``next_to``: the next unit of a run)
+        may stand in it; one a rule puts in front of it or near it keeps out (a bench
+        ``in_front_of`` a wardrobe, facing it, stands beyond its doors).
     """
 
     sides: tuple[str, ...] = ("front",)
     depth: float = 0.6
+    doors: bool = False
 
     SIDES: ClassVar[frozenset[str]] = frozenset({"front", "back", "left", "right"})
 

@@ -366,6 +366,10 @@ class _Spot(NamedTuple):
 
 #: Spots drawn for a wall object whose rules tie it to floor objects, the best kept.
 _RELATED_SPOTS = 24
+#: How far from a floor object that a close rule ties a wall object to (a towel rack near
+#: the bathtub) its spots beside that object are drawn: walls within this many metres of
+#: the object's footprint, this far past its ends along the wall.
+_NEAR_REACH = 1.0
 
 
 def _floor_relations(cp: CompiledPlan, oid: str, poses: dict[str, Pose]) -> list[int]:
@@ -383,7 +387,8 @@ def _related_spot(cp: CompiledPlan, oid: str, poses: dict[str, Pose], related: l
                   ) -> tuple[int, tuple[float, float]] | None:
     """Where a wall object goes whose rules tie it to floor objects: of a few free spots
     on ``walls`` (first those where the floor objects turned towards it look,
-    :func:`_look_spots`; then random walls, each spot on the next of them; on a wall,
+    :func:`_look_spots`; then beside the floor objects a close rule ties it to,
+    :func:`_near_spots`; then random walls, each spot on the next of them; on a wall,
     each free stretch as likely as the next, however short: the one short stretch a bed
     faces beside the wardrobe), the first meeting the most of the ``related`` rules,
     judged with the poses placed so far (the floor and the tops); ``(wall, (u, v))``, or
@@ -394,6 +399,7 @@ def _related_spot(cp: CompiledPlan, oid: str, poses: dict[str, Pose], related: l
     room = cp.room
     w, d, h = size
     spots = _look_spots(cp, oid, poses, blocks, size, band, walls)
+    spots += _near_spots(cp, oid, poses, blocks, size, band, walls, rng)
     for k in range(_RELATED_SPOTS):
         wall = walls[k % len(walls)]
         spot = _wall_spot(room.length[wall], blocks[wall], w, h, band[0], band[1], None, rng,
@@ -436,6 +442,47 @@ def _look_spots(cp: CompiledPlan, oid: str, poses: dict[str, Pose],
                          key=lambda x: abs(x - float(u[0])))
                 out.append((wall, (at, float(v))))
                 break
+    return out
+
+
+def _near_spots(cp: CompiledPlan, oid: str, poses: dict[str, Pose],
+                blocks: dict[int, list[Block]], size: tuple[float, float, float],
+                band: tuple[float, float], walls: list[int], rng: np.random.Generator
+                ) -> list[tuple[int, tuple[float, float]]]:
+    """A free spot beside each placed floor object that a rule keeping the two close
+    (``closeness="close"``: ``near``, ``next_to``) ties to wall object ``oid``, on each
+    of ``walls`` within :data:`_NEAR_REACH` of its footprint: the free spot nearest its
+    extent along the wall (anywhere along it where it is free there), at the first
+    height of the band with room there. A towel rack near a bathtub in a corner has a
+    stretch of wall or two beside the tub: a few random spots over the whole room seldom
+    land there, and one at the far end of that stretch may settle out of reach."""
+    room = cp.room
+    w, _, h = size
+    out = []
+    for b in cp.bindings:
+        if b.rule.surface != "floor" or b.rule.closeness != "close":
+            continue
+        other = b.target if b.object == oid else b.object if b.target == oid else None
+        if other is None or other == oid or other not in poses:
+            continue
+        p = poses[other]
+        corners = box_corners(np.array([[p.x, p.y]]), np.array([p.yaw]),
+                              cp.size([other])[:, :2] * 0.5)[0]  # (4, 2)
+        dist = room.wall_distance(corners)[0].min(axis=0)  # (W,)
+        for wall in walls:
+            if dist[wall] > _NEAR_REACH:
+                continue
+            u = corners @ room.tangent[wall] - room.tangent_offset[wall]
+            t0, t1 = float(u.min()), float(u.max())
+            for v in _heights(blocks[wall], h, band[0], band[1]):
+                ranges = _centres(room.length[wall], blocks[wall], w, h, v,
+                                  (t0 - _NEAR_REACH, t1 + _NEAR_REACH))
+                if ranges:  # the nearest point of each free range, the nearest of them
+                    near = [(max(a, t0), min(c, t1)) if a <= t1 and c >= t0 else
+                            (c, c) if c < t0 else (a, a) for a, c in ranges]
+                    lo, hi = min(near, key=lambda r: max(t0 - r[1], r[0] - t1, 0.0))
+                    out.append((wall, (float(rng.uniform(lo, hi)), float(v))))
+                    break
     return out
 
 

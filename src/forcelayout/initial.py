@@ -975,12 +975,8 @@ class Starts:
         for f in range(max(0, self.fixes)):
             if verdict.passes(self.misses) or not verdict.at_fault:
                 break
-            rows = np.zeros(model.n, dtype=bool)
-            rows[sorted(verdict.at_fault)] = True
-            rows = _movers(placer.parent, rows, with_parents=f % 2 == 1)  # parents: 2nd time
-            p2, y2 = yield RelocateRequest(placer, rng, tuple(np.flatnonzero(rows).tolist()),
-                                           pos, yaw, self.tries, self.spread)
-            again = yield _judging(model, p2, y2)
+            p2, y2, again = yield from self._redrawn(verdict.at_fault, pos, yaw,
+                                                     with_parents=f % 2 == 1)  # 2nd time
             if len(again.failures) < len(verdict.failures):
                 pos, yaw, verdict = p2, y2, again
         if self.fixes > 0 and verdict.unmet and verdict.passes(self.misses):
@@ -988,15 +984,25 @@ class Starts:
             # are drawn once more, kept if it still passes with fewer unmet (a bin left
             # in mid-floor finds a spot at a wall), so the rules a start drops are those
             # it cannot meet rather than the first it missed
-            rows = np.zeros(model.n, dtype=bool)
-            rows[sorted(verdict.at_fault)] = True
-            rows = _movers(placer.parent, rows)
-            p2, y2 = yield RelocateRequest(placer, rng, tuple(np.flatnonzero(rows).tolist()),
-                                           pos, yaw, self.tries, self.spread)
-            again = yield _judging(model, p2, y2)
+            p2, y2, again = yield from self._redrawn(verdict.at_fault, pos, yaw)
             if again.passes(self.misses) and again.unmet < verdict.unmet:
                 pos, yaw, verdict = p2, y2, again
         return pos, yaw, verdict
+
+    def _redrawn(self, at_fault: set[int], pos: np.ndarray, yaw: np.ndarray, *,
+                 with_parents: bool = False
+                 ) -> SampleTask[tuple[np.ndarray, np.ndarray, FloorVerdict]]:
+        """The start with the rows ``at_fault`` and those that start beside them (with
+        ``with_parents``, their parents too: :func:`_movers`) drawn again, and its
+        verdict."""
+        rows = np.zeros(self.model.n, dtype=bool)
+        rows[sorted(at_fault)] = True
+        rows = _movers(self.placer.parent, rows, with_parents=with_parents)
+        p2, y2 = yield RelocateRequest(self.placer, self.rng,
+                                       tuple(np.flatnonzero(rows).tolist()), pos, yaw,
+                                       self.tries, self.spread)
+        again = yield _judging(self.model, p2, y2)
+        return p2, y2, again
 
 
 def _movers(parent: np.ndarray, rows: np.ndarray, *, with_parents: bool = False

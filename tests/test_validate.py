@@ -819,8 +819,11 @@ def test_only_an_object_beside_them_stands_where_doors_open(rule, blocked):
     """Doors open into a wardrobe's zone: a box a rule puts in front of it or near it
     blocks it all the same (a bench in front of a wardrobe stands beyond its doors); one
     standing beside it, the next unit of a run, may reach into it."""
+    from forcelayout import rules
     from forcelayout.access import access_of
 
+    beside = rules.get_rule(rule).start.place in rules.StartHint.SIDE_PLACES
+    assert beside == (not blocked)
     plan = _box_in_front_of("wardrobe", rule)
     assert access_of(plan.object("wardrobe")).doors
     assert not access_of(plan.object("bed")).doors

@@ -35,7 +35,7 @@ from forcelayout import geometry as geo
 from forcelayout.bindings import Binding, compile_plan
 from forcelayout.clearance import push_out
 from forcelayout.plan import SceneObject
-from forcelayout.rules.base import Access, State, stacked_rows
+from forcelayout.rules.base import Access, StartHint, State, stacked_rows
 
 if TYPE_CHECKING:
     from forcelayout.layout import Layout
@@ -73,9 +73,6 @@ CATEGORY_ACCESS: dict[str, Access] = {
 #: word before them says (a ``laundry_basket`` is no laundry machine, a ``kitchen_bin`` no
 #: kitchen counter).
 NO_ACCESS_WORDS = frozenset({"basket", "hamper", "bin", "can", "bag", "mat"})
-
-#: Start places of rules that stand their object beside the target, not in front of it.
-_BESIDE_PLACES = ("beside", "left", "right")
 
 _DIRS = {"front": (0.0, 1.0), "back": (0.0, -1.0), "left": (-1.0, 0.0), "right": (1.0, 0.0)}
 
@@ -357,7 +354,7 @@ def related_pairs(ids: Sequence[str], bindings: Sequence[Binding],
                 acc = access_of(plan_objects[b.target],
                                 [c for c in bindings if c.object == b.target])
                 doors[b.target] = acc is not None and acc.doors
-            if doors[b.target] and (hint is None or hint.place not in _BESIDE_PLACES):
+            if doors[b.target] and (hint is None or hint.place not in StartHint.SIDE_PLACES):
                 continue  # not in front of its doors, whichever rule keeps it close
         if plan_objects is not None and b.object in plan_objects and hint is not None \
                 and hint.place in ("front", "back") \

@@ -44,7 +44,7 @@ __all__ = ["parents", "initial_poses", "start_poses", "propose_poses", "relocate
            "ProposeRequest", "RelocateRequest"]
 
 #: Start places beside the parent, where wall length is kept free next to it.
-_SIDE_PLACES = frozenset({"beside", "left", "right"})
+_SIDE_PLACES = StartHint.SIDE_PLACES
 #: Clearance a start pose keeps to other objects, metres (less a rounding tolerance: a pose
 #: flush against a wall beside a door zone sits right at it). Of a door's swing square it
 #: keeps clear only, as the door check asks.

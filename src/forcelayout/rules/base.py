@@ -126,6 +126,9 @@ class StartHint:
     PLACES: ClassVar[frozenset[str]] = frozenset(
         {"wall", "corner", "middle", "window", "door", "beside", "left", "right", "front",
          "back", "all_round", "beneath"})
+    #: The places beside the target (its backs level with the target's): where a rule
+    #: stands its object beside the target rather than in front of or behind it.
+    SIDE_PLACES: ClassVar[frozenset[str]] = frozenset({"beside", "left", "right"})
     #: The places ``reach`` may bound.
     REACH_PLACES: ClassVar[frozenset[str]] = frozenset({"window", "door", "middle", "front",
                                                         "back"})

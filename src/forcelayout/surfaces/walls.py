@@ -399,7 +399,7 @@ def _related_spot(cp: CompiledPlan, oid: str, poses: dict[str, Pose], related: l
     room = cp.room
     w, d, h = size
     spots = _look_spots(cp, oid, poses, blocks, size, band, walls)
-    spots += _near_spots(cp, oid, poses, blocks, size, band, walls, rng)
+    spots += _near_spots(cp, oid, poses, related, blocks, size, band, walls, rng)
     for k in range(_RELATED_SPOTS):
         wall = walls[k % len(walls)]
         spot = _wall_spot(room.length[wall], blocks[wall], w, h, band[0], band[1], None, rng,
@@ -445,12 +445,13 @@ def _look_spots(cp: CompiledPlan, oid: str, poses: dict[str, Pose],
     return out
 
 
-def _near_spots(cp: CompiledPlan, oid: str, poses: dict[str, Pose],
+def _near_spots(cp: CompiledPlan, oid: str, poses: dict[str, Pose], related: list[int],
                 blocks: dict[int, list[Block]], size: tuple[float, float, float],
                 band: tuple[float, float], walls: list[int], rng: np.random.Generator
                 ) -> list[tuple[int, tuple[float, float]]]:
-    """A free spot beside each placed floor object that a rule keeping the two close
-    (``closeness="close"``: ``near``, ``next_to``) ties to wall object ``oid``, on each
+    """A free spot beside each placed floor object that a rule of ``related``
+    (:func:`_floor_relations`) keeping the two close (``closeness="close"``: ``near``,
+    ``next_to``) ties to wall object ``oid``, on each
     of ``walls`` within :data:`_NEAR_REACH` of its footprint: the free spot nearest its
     extent along the wall (anywhere along it where it is free there), at the first
     height of the band with room there. A towel rack near a bathtub in a corner has a
@@ -459,11 +460,12 @@ def _near_spots(cp: CompiledPlan, oid: str, poses: dict[str, Pose],
     room = cp.room
     w, _, h = size
     out = []
+    rules = set(related)
     for b in cp.bindings:
-        if b.rule.surface != "floor" or b.rule.closeness != "close":
+        if b.index not in rules or b.rule.closeness != "close":
             continue
-        other = b.target if b.object == oid else b.object if b.target == oid else None
-        if other is None or other == oid or other not in poses:
+        other = b.target if b.object == oid else b.object
+        if other not in poses:
             continue
         p = poses[other]
         corners = box_corners(np.array([[p.x, p.y]]), np.array([p.yaw]),

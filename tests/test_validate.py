@@ -691,6 +691,30 @@ def test_a_chair_around_a_desk_is_let_into_its_zone_whatever_room_its_rule_asks(
     assert not rel[desk, arm]  # an armchair is used itself: its leg room is its own
 
 
+@pytest.mark.parametrize("rules, free", [
+    ([("near", "armchair", "table"), ("facing", "armchair", "table")], True),
+    ([("facing", "armchair", "table")], False),  # faced only: in its way
+    ([("near", "armchair", "table")], False),  # near only: the table may stand anywhere
+    ([("near", "armchair", "table"), ("facing", "armchair", "lamp")], False),
+])
+def test_what_a_seat_is_kept_near_and_faces_stands_in_its_front_zone(rules, free):
+    """An armchair near a coffee table and facing it is used with it: the table, 0.3 m in
+    front, leaves its front zone free; any other object there blocks it."""
+    from forcelayout.access import zone_states
+
+    plan = Plan.from_dict({
+        "name": "corner", "room": {"polygon": [[0, 0], [4, 0], [4, 4], [0, 4]]},
+        "objects": [{"id": "armchair", "category": "armchair", "size": [0.8, 0.8, 0.9]},
+                    {"id": "table", "category": "coffee_table", "size": [1.0, 0.6, 0.4]},
+                    {"id": "lamp", "category": "floor_lamp", "size": [0.3, 0.3, 1.6]}],
+        "rules": [{"rule": r, "object": o, "target": t} for r, o, t in rules]})
+    lay = Layout(plan, {"armchair": Pose(2.0, 1.0, 0.0), "table": Pose(2.0, 2.0, 0.0),
+                        "lamp": Pose(3.5, 3.5, 0.0)})
+    (zone,) = [z for z in zone_states(lay) if z.object == "armchair"]
+    assert zone.side == "front" and zone.free == free
+    assert [c for c, _ in zone.covered_by] == ([] if free else ["table"])
+
+
 @pytest.mark.parametrize("width, blocked", [(0.6, False), (0.8, False), (1.0, True), (2.0, True)])
 def test_an_access_zone_is_free_where_a_stretch_a_person_wide_is(width, blocked):
     # a box in the middle of the bed's free side leaves 0.7 m at either end of it; a stretch

@@ -247,7 +247,9 @@ def access_zones(plan_objects: dict[str, SceneObject], ids: Sequence[str],
         Walkable covers: they own no zone and block none.
     related : ndarray of bool, shape (N, N)
         ``[owner, other]``: ``other`` does not block ``owner``'s zones
-        (:func:`related_pairs`).
+        (:func:`related_pairs`). Nor does what a rule keeps an owner close to and a
+        rule turns it to face (``near`` and ``facing``, ``around``) block its front
+        zone: the coffee table before the armchair that faces it.
 
     Returns
     -------
@@ -281,6 +283,16 @@ def access_zones(plan_objects: dict[str, SceneObject], ids: Sequence[str],
     own = np.array(owner, dtype=int)
     exempt = related[own].copy() | walkable[None, :]
     exempt[np.arange(len(own)), own] = True
+    # what a seat is kept close to and turned to face stands in its front zone as the
+    # coffee table stands before an armchair: what it is used with, not in its way
+    close = {(b.object, b.target) for b in bindings if b.rule.closeness == "close"}
+    for b in bindings:
+        hint = b.rule.start
+        if hint is None or hint.turn != "face_target" or (b.object, b.target) not in close \
+                or b.object not in row or b.target not in row:
+            continue
+        front = (own == row[b.object]) & np.array([sd == "front" for sd in sides])
+        exempt[front, row[b.target]] = True
     return AccessZones(own, np.array(direction, dtype=float), np.array(depth, dtype=float),
                        exempt, tuple(sides))
 

@@ -1747,22 +1747,29 @@ class _Placer:
             for sign in (0.0, -1.0, 1.0) if hw < half[r, 0] else (0.0,):
                 free |= roomy(cand + fwd * (0.5 * fm) + rgt * (sign * (half[r, 0] - hw)), ext)
             cramped += self.n_front[r] * ~free
-        am = self.around_margin[r]
-        if am > 0:  # all round it for its children there (the chairs at a table)
-            cramped += self.n_around[r] * ~roomy(cand, half[r] + am)
-        zm = self.zoned_margin[r]
-        zoned = np.zeros(n, dtype=bool)
-        if zm > 0:  # and sides with room for them all and their access zones beyond them
-            seats = np.zeros(n)
+        def seats(margin: float) -> np.ndarray:  # how many of its children all round find
+            # room ``margin`` deep along its sides, each side seating as many as it is long
+            out = np.zeros(n)
             hx, hy = half[r]
             for axis, h, other in ((fwd, hy, hx), (rgt, hx, hy)):
                 fits = max(1.0, np.floor((2.0 * other + 0.1) / self.seat[r]))
-                ext = np.array([other, 0.5 * zm]) if axis is fwd else np.array([0.5 * zm, other])
+                ext = np.array([other, 0.5 * margin]) if axis is fwd \
+                    else np.array([0.5 * margin, other])
                 for sign in (-1.0, 1.0):
-                    seats += fits * roomy(cand + sign * axis * (h + 0.5 * zm), ext)
+                    out += fits * roomy(cand + sign * axis * (h + 0.5 * margin), ext)
+            return out
+
+        am = self.around_margin[r]
+        if am > 0:  # room for its children all round (the chairs at a table): on as many
+            # sides as seat them all (a table for two may stand against a wall), each one
+            # without a seat a miss
+            cramped += np.maximum(self.n_around[r] - seats(am), 0.0)
+        zm = self.zoned_margin[r]
+        zoned = np.zeros(n, dtype=bool)
+        if zm > 0:  # and sides with room for them all and their access zones beyond them
             # a blocked zone: chooses among the candidates, calls for no second draw (which
             # asked for room all round and made crowded studios half as slow)
-            zoned = seats < self.n_around[r]
+            zoned = seats(zm) < self.n_around[r]
         # no room above it for the object that hangs there: that object goes missing and
         # the sample fails, so this ranks with a spot in a window zone (below)
         unmet = 4.0 * _unmet(self.room, w, cand.reshape(-1, 2), fwd.reshape(-1, 2),

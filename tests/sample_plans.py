@@ -50,3 +50,36 @@ def backs_offset(bed: tuple[float, float, float], other: tuple[float, float, flo
     front = (-math.sin(bed[2]), math.cos(bed[2]))
     along = (other[0] - bed[0]) * front[0] + (other[1] - bed[1]) * front[1]
     return (along - 0.5 * other_depth) - (-0.5 * bed_depth)
+
+#: A lobby: a reception desk near the door, its chair in front of it against the wall,
+#: five chairs in a row along a wall, a coffee table and two plants; 21 rules.
+RECEPTION = {
+    "name": "reception",
+    "room": {"polygon": [[0, 0], [6.0, 0], [6.0, 5.0], [0, 5.0]], "height": 2.8,
+             "doors": [{"wall": 0, "offset": 1.0, "width": 1.0},
+                       {"wall": 2, "offset": 1.0, "width": 0.9}]},
+    "objects": [
+        {"id": "desk", "category": "reception_desk", "size": [1.8, 0.7, 1.05]},
+        {"id": "desk_chair", "category": "office_chair", "size": [0.6, 0.6, 1.0]},
+        *({"id": f"chair_{k}", "category": "chair", "size": [0.55, 0.55, 0.85]}
+          for k in range(5)),
+        {"id": "table", "category": "coffee_table", "size": [1.0, 0.5, 0.42]},
+        {"id": "plant_1", "category": "plant", "size": [0.5, 0.5, 1.4]},
+        {"id": "plant_2", "category": "plant", "size": [0.5, 0.5, 1.4]}],
+    "rules": [
+        {"rule": "at_wall", "object": "desk_chair"},
+        {"rule": "in_front_of", "object": "desk_chair", "target": "desk",
+         "params": {"distance": 0.6}},
+        {"rule": "facing", "object": "desk_chair", "target": "desk"},
+        {"rule": "near_door", "object": "desk", "params": {"door": 0, "distance": 2.8}},
+        *({"rule": "at_wall", "object": f"chair_{k}"} for k in range(5)),
+        *({"rule": "next_to", "object": f"chair_{k + 1}", "target": f"chair_{k}",
+           "params": {"distance": 0.08}} for k in range(4)),
+        *({"rule": "face_same_as", "object": f"chair_{k + 1}", "target": f"chair_{k}"}
+          for k in range(4)),
+        {"rule": "in_front_of", "object": "table", "target": "chair_2",
+         "params": {"distance": 0.7}},
+        {"rule": "in_corner", "object": "plant_1"},
+        {"rule": "in_corner", "object": "plant_2"},
+        {"rule": "far_from", "object": "plant_2", "target": "plant_1",
+         "params": {"distance": 2.0}}]}

@@ -45,6 +45,9 @@ __all__ = ["CATEGORY_ACCESS", "NO_ACCESS_WORDS", "access_of", "access_zones", "A
            "blocked_objects", "AccessTerm", "access_term"]
 
 _FRONT = ("front",)
+#: How far (metres) a front zone reaches past what a rule stands in front of its owner
+#: with that object's back held at a wall.
+_SLIVER = 0.05
 _LONG_SIDES = ("left", "right")  # of a footprint deeper than wide, as a bed's is
 #: Default access by category word: which sides need free floor, and how deep (metres).
 #: A bed's sides are its long sides: left and right, or front and back for one wider
@@ -259,6 +262,9 @@ def access_zones(plan_objects: dict[str, SceneObject], ids: Sequence[str],
     owner, direction, depth, sides = [], [], [], []
     row = {oid: r for r, oid in enumerate(ids)}
     in_front: dict[str, float] = {}
+    walled = {b.object for b in bindings if b.rule.start is not None
+              and b.rule.start.place in ("wall", "corner")}
+    backed: dict[str, bool] = {}  # whether each in front of it stands with its back at a wall
     for b in bindings:
         hint = b.rule.start
         if b.target in row and b.object in row and hint is not None \
@@ -266,6 +272,7 @@ def access_zones(plan_objects: dict[str, SceneObject], ids: Sequence[str],
                 and related[row[b.target], row[b.object]]:
             in_front[b.target] = max(in_front.get(b.target, 0.0),
                                      float(plan_objects[b.object].size[1]))
+            backed[b.target] = backed.get(b.target, True) and b.object in walled
     for r, oid in enumerate(ids):
         obj = plan_objects.get(oid)
         if obj is None or walkable[r]:
@@ -276,7 +283,12 @@ def access_zones(plan_objects: dict[str, SceneObject], ids: Sequence[str],
         for side in acc.sides:
             owner.append(r)
             direction.append(_DIRS[side])
-            depth.append(acc.depth + (in_front.get(oid, 0.0) if side == "front" else 0.0))
+            if side == "front" and backed.get(oid, False):
+                # what stands in front of it is held at a wall behind it (the chair behind a
+                # reception desk): used where it stands, with no floor free beyond it
+                depth.append(in_front[oid] + _SLIVER)
+            else:
+                depth.append(acc.depth + (in_front.get(oid, 0.0) if side == "front" else 0.0))
             sides.append(side)
     if not owner:
         return None

@@ -979,12 +979,17 @@ class Starts:
                                                      with_parents=f % 2 == 1)  # 2nd time
             if len(again.failures) < len(verdict.failures):
                 pos, yaw, verdict = p2, y2, again
-        if self.fixes > 0 and verdict.unmet and verdict.passes(self.misses):
+        for f in range(max(0, self.fixes)):
+            if not (verdict.unmet and verdict.passes(self.misses)):
+                break
             # passes with rules unmet, as the sample allows: the objects of those rules
-            # are drawn once more, kept if it still passes with fewer unmet (a bin left
-            # in mid-floor finds a spot at a wall), so the rules a start drops are those
-            # it cannot meet rather than the first it missed
-            p2, y2, again = yield from self._redrawn(verdict.at_fault, pos, yaw)
+            # are drawn again as a failing start's are (the second time with their
+            # parents), kept if it still passes with fewer unmet (a bin left in mid-floor
+            # finds a spot at a wall, a desk turns its front to the wall its chair stands
+            # at), so the rules a start drops are those it cannot meet rather than the
+            # first it missed
+            p2, y2, again = yield from self._redrawn(verdict.at_fault, pos, yaw,
+                                                     with_parents=f % 2 == 1)
             if again.passes(self.misses) and again.unmet < verdict.unmet:
                 pos, yaw, verdict = p2, y2, again
         return pos, yaw, verdict
@@ -1003,6 +1008,11 @@ class Starts:
                                        self.tries, self.spread)
         again = yield _judging(self.model, p2, y2)
         return p2, y2, again
+
+
+def _front_at_wall(w: _Wants) -> bool:
+    """Whether a child stands in front of its parent with its back at a wall."""
+    return "front" in w.places and "wall" in w.places
 
 
 def _movers(parent: np.ndarray, rows: np.ndarray, *, with_parents: bool = False
@@ -1287,6 +1297,12 @@ class _Placer:
                     and "face_target" in wants[c].turns:
                 self.front_sights[parent[c]] += [(c, sight) for sight in wants[c].sights]
         self.front_margin, self.around_margin = front, around
+        # a parent whose child in front of it belongs at a wall (a receptionist's chair
+        # against the wall behind the desk) also draws spots facing a wall that margin off
+        self.front_to_wall = np.zeros(n, dtype=bool)
+        for c in range(n):
+            if parent[c] >= 0 and _front_at_wall(wants[c]):
+                self.front_to_wall[parent[c]] = True
         # one child in front needs a stretch of that floor as wide as itself, anywhere along
         # the parent (``in_front_of`` lets it stand off the centre line); several, all of it
         self.front_width = np.where(n_front == 1, front_width, np.inf)
@@ -1512,6 +1528,12 @@ class _Placer:
             more, more_yaw = self._toward_spot(r, draws, tries // 2, spot)
             cand = np.concatenate([cand, more], axis=1)
             cyaw = np.concatenate([cyaw, more_yaw], axis=1)
+        if self.front_to_wall[r] and q < 0 and not corner:
+            # its front to a wall, as far off it as the child in front of it needs, the
+            # child's back at the wall (a reception desk with its chair against the wall)
+            more, more_yaw = self._facing_a_wall(r, draws, tries // 2, opening, w.reach)
+            cand = np.concatenate([cand, more], axis=1)
+            cyaw = np.concatenate([cyaw, more_yaw], axis=1)
         # fall-backs after the proposals: anywhere at a wall for objects that
         # belong at one, anywhere in the room for the rest
         extra = tries // 2
@@ -1531,6 +1553,18 @@ class _Placer:
         if tall_by_window:
             cand, cyaw = self._clear_of_windows(r, cand, cyaw, k0, tries)
         return cand, cyaw, loose
+
+    def _facing_a_wall(self, r: int, draws: _Draws, k: int, opening: np.ndarray | None,
+                       reach: float) -> tuple[np.ndarray, np.ndarray]:
+        """``k`` candidate poses (B, k) of row ``r`` turned to face a wall (near an opening
+        where its rules ask for one), its front as far off the wall as its children in front
+        of it need (``front_margin``)."""
+        half, margin = self.half[r], self.front_margin[r]
+        near = None if opening is None else _near_opening(draws, k, opening, reach)
+        deep = np.array([half[0], half[1] + 0.5 * margin])  # the object and its front room
+        cand, cyaw = _wall_candidates(self.room, draws, k, deep, near)
+        back = geo.front_vectors(cyaw)  # out of the wall: the object's back, once turned
+        return cand + back * (0.5 * margin), cyaw + np.pi
 
     def _toward_views(self, r: int, placed: Sequence[Sequence[int]], pos: np.ndarray,
                       yaw: np.ndarray, cand: np.ndarray, cyaw: np.ndarray,

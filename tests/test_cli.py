@@ -405,9 +405,14 @@ def test_min_rules_1_asks_every_accepted_layout_to_meet_every_rule(tmp_path, cap
 
     plan = str(Path(__file__).parents[1] / "benchmarks" / "plans" /
                "living_room_family_large.json")  # 23 rules
+    # and a 24th at odds with one of them: the bench both at the piano and 1 m off it
+    odd = json.loads(Path(plan).read_text())
+    odd["rules"].append({"rule": "far_from", "object": "piano_bench", "target": "piano",
+                         "params": {"distance": 1.0}})
+    (tmp_path / "odd.json").write_text(json.dumps(odd))
     loose, strict = tmp_path / "loose", tmp_path / "strict"
-    assert main(["generate", plan, "-n", "4", "--out", str(loose), "--quiet",
-                 "--format", "none"]) == 0
+    assert main(["generate", str(tmp_path / "odd.json"), "-n", "4", "--out", str(loose),
+                 "--quiet", "--format", "none"]) == 0
     said = capsys.readouterr().out
     met = [Layout.load(f, load_plan(loose / "plan.json")).rule_satisfaction
            for f in sorted(loose.glob("living_room_family_large_*.json"))]
@@ -422,6 +427,8 @@ def test_min_rules_1_asks_every_accepted_layout_to_meet_every_rule(tmp_path, cap
                                      if r.satisfied is False).values())
     assert sum(r.label == label and r.satisfied is False for rep in reports for r in rep) \
         == int(times)
+    assert json.loads((loose / "summary.json").read_text())["unmet_rules"] == dict(
+        Counter(r.label for rep in reports for r in rep if r.satisfied is False))
     assert main(["generate", plan, "-n", "4", "--out", str(strict), "--quiet",
                  "--format", "none", "--min-rules", "1"]) == 0
     assert "leave a rule unmet" not in capsys.readouterr().out

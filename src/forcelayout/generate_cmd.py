@@ -168,6 +168,10 @@ def run_generate(args: argparse.Namespace) -> int:
         solve(plan, raised.seed, options=opts)  # that sample again: raises with its traceback
     summary = result.summary()
     summary["rejected"] = [{"seed": r.seed, "failures": r.failures} for r in result.rejected]
+    # how many accepted layouts leave each rule unmet (as the acceptance share allows)
+    unmet = Counter(r.label for lay in result.layouts for r in lay.rule_report()
+                    if r.satisfied is False)
+    summary["unmet_rules"] = dict(unmet.most_common())
     (out / "summary.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")
     print(f"{plan.name}: {summary['accepted']}/{args.n} layouts from {summary['attempted']} "
           f"samples in {seconds:.1f} s (of all samples: {summary['valid_fraction']:.0%} "
@@ -175,9 +179,10 @@ def run_generate(args: argparse.Namespace) -> int:
           f"{summary['mean_rule_satisfaction']:.0%} of rules met on average) -> {out}")
     short = sum(lay.report.rule_satisfaction < 1.0 for lay in result.layouts)
     if short:
-        unmet = Counter(r.label for lay in result.layouts for r in lay.rule_report()
-                        if r.satisfied is False)
         which = ", ".join(f"{label} x{k}" for label, k in unmet.most_common(3))
+        if len(unmet) > 3:  # the rest counted, not dropped
+            rest = sum(k for _, k in unmet.most_common()[3:])
+            which += f"; {len(unmet) - 3} more x{rest}, each in summary.json"
         print(f"{short} of the {summary['accepted']} layouts leave a rule unmet, as "
               f"--min-rules {_min_rules(args):g} allows ({which}); --min-rules 1 asks for "
               "every rule")

@@ -60,6 +60,9 @@ class Binding:
         ``weights[rule]``, else the rule's default.
     bond : bool or None
         The spec's explicit ``bond``; ``None`` means the rule's default.
+    required : bool
+        The spec's ``required``: a layout that leaves it unmet is rejected, whatever
+        share of the rules the acceptance lets go unmet.
     """
 
     index: int
@@ -69,16 +72,18 @@ class Binding:
     params: BaseModel
     weight: float
     bond: bool | None = None
+    required: bool = False
 
     @classmethod
     def make(cls, rule: Rule | str, object: str, target: str | None = None,
              params: Mapping[str, Any] | None = None, weight: float | None = None,
-             *, index: int = -1, bond: bool | None = None) -> Binding:
+             *, index: int = -1, bond: bool | None = None, required: bool = False
+             ) -> Binding:
         """A binding from a rule (instance or registered name) and raw params."""
         inst = registry.get_rule(rule) if isinstance(rule, str) else rule
         p = inst.Params.model_validate(dict(params or {}))
         return cls(index, inst, object, target, p,
-                   float(inst.weight if weight is None else weight), bond)
+                   float(inst.weight if weight is None else weight), bond, bool(required))
 
     def __str__(self) -> str:
         return _binding_label(self.rule.name, self.object, self.target)
@@ -207,7 +212,7 @@ class CompiledPlan:
         self.bindings = tuple(
             Binding.make(s.rule, s.object, s.target, s.params,
                          s.weight if s.weight is not None else plan.weights.get(s.rule),
-                         index=k, bond=s.bond)
+                         index=k, bond=s.bond, required=s.required)
             for k, s in enumerate(plan.rules))
 
     @cached_property

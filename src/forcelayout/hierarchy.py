@@ -424,7 +424,8 @@ def _units(cp: CompiledPlan, variants: dict[str, AreaVariant], relations: bool
                 continue
             tgt = (unit_of.get(ar.target, _FREE + ar.target if ar.target in variants else None)
                    if ar.target is not None else None)
-            out.append(Binding(b.index, b.rule, b.object, tgt, b.params, b.weight))
+            out.append(Binding(b.index, b.rule, b.object, tgt, b.params, b.weight,
+                               required=b.required))
     seen: set[tuple[str, str, str | None]] = set()
     for b in cp.bindings:
         if b.rule.surface != "floor" or b.object not in unit_of:
@@ -438,7 +439,7 @@ def _units(cp: CompiledPlan, variants: dict[str, AreaVariant], relations: bool
         if v is None or u == v or not relations or (b.rule.name, u, v) in seen:
             continue
         seen.add((b.rule.name, u, v))
-        out.append(Binding(b.index, b.rule, u, v, b.params, b.weight))
+        out.append(Binding(b.index, b.rule, u, v, b.params, b.weight, required=b.required))
     return units, sizes, out
 
 

@@ -262,6 +262,9 @@ class RuleSpec(_Model):
     bond: bool | None = Field(None, description=(
         "Strong parent->child dependency in the scene graph; None = the default "
         "(next_to, in_front_of and around between floor objects of one area)."))
+    required: bool = Field(False, description=(
+        "Every layout must meet this rule, whatever share of the rules the acceptance "
+        "lets go unmet (min_rule_satisfaction, --min-rules)."))
 
     @property
     def label(self) -> str:

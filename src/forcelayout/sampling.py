@@ -32,6 +32,7 @@ from forcelayout.diagnose import (
     FewLayoutsWarning,
     dominant_cause,
     feasibility,
+    missed_rules,
 )
 from forcelayout.errors import PlanError
 from forcelayout.layout import Layout, SampleReport
@@ -161,6 +162,10 @@ def _solve_many(plan: Plan, seeds: list[int], opts: Options) -> list[Layout]:
     return layouts
 
 
+#: How a sample's failure line begins where it misses a rule the plan requires.
+_REQUIRED = "rules: required by the plan"
+
+
 def _judge(layout: Layout, opts: Options) -> None:
     report = layout.report
     report.rule_satisfaction = layout.rule_satisfaction
@@ -175,6 +180,12 @@ def _judge(layout: Layout, opts: Options) -> None:
 
         shown, need = _percents(report.rule_satisfaction, opts.min_rule_satisfaction)
         failures.append(f"rules: {shown}% met, below {need}%; unmet: {', '.join(unmet)}")
+    elif report.rule_satisfaction < 1.0:
+        rules = layout.plan.rules
+        needed = [r.label for r in layout.rule_report()
+                  if r.satisfied is False and rules[r.index].required]
+        if needed:  # whatever share the acceptance asks for
+            failures.append(f"{_REQUIRED}; unmet: {', '.join(needed)}")
     report.failures = failures
     report.valid = not failures
 
@@ -345,6 +356,21 @@ class Generation:
             todo = (f"before sampling the plan looked tight ({crowded}): fewer or smaller "
                     f"objects or a larger room will do more than samples (or try "
                     f"{attempts(more)})")
+        elif k < 0.1 * tried and (never := self._never_met()) is not None:
+            # one rule missed by nearly every sample: likely impossible as written, which a
+            # lower share only hides
+            rule, m, of, required = never
+            short = None if required else self._short_of_rules(n - k)
+            todo = (f"{rule} was unmet in {m} of the {of} samples that failed for their "
+                    "rules, so it may be impossible as written, or at odds with another rule "
+                    "(its distance or angle, a wall or opening that pins one of its "
+                    "objects): loosen or remove it")
+            if required:
+                todo += " (the plan requires it)"
+            elif short is not None:
+                flag = (f"--min-rules {short[1]:.2f}" if cli
+                        else f"min_rule_satisfaction={short[1]:.2f}")
+                todo += f"; {flag} accepts layouts that leave it unmet"
         elif k < 0.1 * tried and (short := self._short_of_rules(n - k)) is not None:
             # samples that pass every check but a rule or two: a lower share of rules met
             # takes them, where more samples seldom meet every rule
@@ -379,13 +405,28 @@ class Generation:
         unless at least half the samples failed so, meeting half their rules or more."""
         sats = sorted((r.rule_satisfaction for r in self.rejected
                        if r.failures and not r.missing
-                       and all(f.startswith("rules:") for f in r.failures)), reverse=True)
+                       and all(f.startswith("rules:") and not f.startswith(_REQUIRED)
+                               for f in r.failures)), reverse=True)
         if not sats or len(sats) < 0.5 * self.attempted:
             return None
         share = math.floor(sats[min(wanted, len(sats)) - 1] * 100 + 1e-9) / 100
         if share < 0.5:
             return None
         return sum(s >= share for s in sats), share
+
+    def _never_met(self) -> tuple[str, int, int, bool] | None:
+        """The rule binding missed most often by the samples that failed for their rules,
+        how many missed it, how many so failed, and whether the plan requires it; where it
+        is at least 10 and 90 % of them, else None."""
+        lines = [[f for f in r.failures if f.startswith("rules:")] for r in self.rejected]
+        missed = [missed_rules(ls) for ls in lines if ls]
+        counts = collections.Counter(b for m in missed for b in m)
+        if not counts:
+            return None
+        rule, m = counts.most_common(1)[0]
+        if m < max(10, 0.9 * len(missed)):
+            return None
+        return rule, m, len(missed), rule in {s.label for s in self.plan.rules if s.required}
 
     def _crowded(self) -> str | None:
         """The feasibility note on too little free floor, where most samples failed the

@@ -45,12 +45,16 @@ class FloorVerdict:
     free : float
         Share of the floor free for the agent, as the ``navigable`` check
         judges it (1 where the checks did not run).
+    required : set of int
+        Those of ``missed`` that the plan requires (``RuleSpec.required``): no share
+        of the rules lets them go unmet.
     """
 
     failures: list[str] = field(default_factory=list)
     at_fault: set[int] = field(default_factory=set)
     missed: set[int] = field(default_factory=set)
     free: float = 1.0
+    required: set[int] = field(default_factory=set)
 
     def better_than(self, other: FloorVerdict, misses: int = 0) -> bool:
         """Whether this arrangement is nearer acceptance than ``other``.
@@ -75,7 +79,8 @@ class FloorVerdict:
     def rejecting(self, misses: int = 0) -> int:
         """How many failures reject the arrangement: failed checks, and the unmet
         bindings beyond ``misses``."""
-        return len(self.failures) - self.unmet + max(0, self.unmet - misses)
+        needed = len(self.required)
+        return len(self.failures) - self.unmet + needed + max(0, self.unmet - needed - misses)
 
     @property
     def unmet(self) -> int:
@@ -91,10 +96,12 @@ class FloorVerdict:
         """Whether every check passed and at most ``misses`` bindings are unmet.
 
         A sample is accepted when it meets a share of its rules
-        (``Options.min_rule_satisfaction``); ``misses`` is how many of the
-        plan's bindings that share leaves unmet (see :func:`allowed_misses`).
+        (``Options.min_rule_satisfaction``) and every rule the plan requires;
+        ``misses`` is how many of the plan's bindings that share leaves unmet
+        (see :func:`allowed_misses`).
         """
-        return len(self.failures) - self.unmet == 0 and self.unmet <= misses
+        return len(self.failures) - self.unmet == 0 and not self.required \
+            and self.unmet <= misses
 
 
 def allowed_misses(n_bindings: int, min_rule_satisfaction: float) -> int:
@@ -184,6 +191,8 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
                     if higher:  # the wall stage hangs it higher, its rule unmet
                         v.failures.append(str(wall_binding))
                         v.missed.add(-1 - wall_binding.index)
+                        if wall_binding.required:
+                            v.required.add(-1 - wall_binding.index)
                         v.at_fault.add(row[target])
                     elif target is not None:
                         v.failures.append(f"walls: no room for {oid!r} on the wall above "
@@ -206,6 +215,8 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
                 for view, near in missing:
                     v.failures.append(str(view))
                     v.missed.add(-1 - view.index)
+                    if view.required:
+                        v.required.add(-1 - view.index)
                     # the objects in the way there, else every object turned to that wall
                     # object (moving the second bed alone set it beside the first, each time)
                     v.at_fault.update([row[n] for n in near] or [
@@ -235,6 +246,8 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
             v = out[s]
             v.failures.append(str(b))
             v.missed.add(k)
+            if b.required:
+                v.required.add(k)
             v.at_fault.add(row[b.object])
             v.at_fault.update(_holding(model, pos[s], b))
     return out

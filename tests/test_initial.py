@@ -1039,3 +1039,23 @@ def test_a_desk_whose_chair_belongs_at_a_wall_starts_facing_that_wall():
     chosen = sum(model.satisfied(model.state(*initial_poses(model, np.random.default_rng(s))))[k]
                  for s in range(60))
     assert drawn >= 6 and chosen >= 54
+
+
+def test_two_desks_each_behind_the_other_start_back_to_back():
+    """``behind`` both ways (desks back to back): the one that starts behind its parent is
+    turned about, so both rules can be met; it had started facing as its parent did, and
+    a new user's office for two took 49 samples (47 s) for 20 layouts, 20 now (1.5 s)."""
+    plan = fl.Plan.from_dict({
+        "name": "office for two", "room": {"polygon": [[0, 0], [4.2, 0], [4.2, 3.6], [0, 3.6]]},
+        "objects": [{"id": "desk_a", "category": "desk", "size": [1.4, 0.7, 0.75]},
+                    {"id": "desk_b", "category": "desk", "size": [1.4, 0.7, 0.75]}],
+        "rules": [{"rule": "behind", "object": "desk_b", "target": "desk_a",
+                   "params": {"distance": 0.05, "lateral": 0.05}},
+                  {"rule": "behind", "object": "desk_a", "target": "desk_b",
+                   "params": {"distance": 0.05, "lateral": 0.05}}]})
+    model = ForceModel(plan)
+    a, b = model.ids.index("desk_a"), model.ids.index("desk_b")
+    for s in range(12):
+        pos, yaw = initial_poses(model, np.random.default_rng(s))
+        assert abs(np.cos(yaw[a] - yaw[b]) + 1.0) < 1e-9
+        assert all(model.satisfied(model.state(pos, yaw)).values())

@@ -217,6 +217,15 @@ def _wants(model: ForceModel) -> list[_Wants]:
                 w.cones[j] = min(w.cones.get(j, 180.0), float(getattr(g.params, hint.cone)[b]))
             if hint.which is not None and getattr(g.params, hint.which)[b] >= 0:
                 w.picks[hint.place] = int(getattr(g.params, hint.which)[b])
+    # two objects each in front of the other, or each behind the other (desks back to
+    # back): the one that starts at its parent's side is turned about to it
+    sides = {(int(i), int(j)): g.rule.start.place for g in model.groups
+             if g.j is not None and g.rule.start is not None
+             and g.rule.start.place in ("front", "back")
+             for i, j in zip(g.i.tolist(), g.j.tolist(), strict=True)}
+    for (i, j), place in sides.items():
+        if sides.get((j, i)) == place:
+            out[i].turns.add("about")
     row = {oid: k for k, oid in enumerate(model.ids)}
     for b in model.wall_views:  # floor objects turned towards a wall object
         out[row[b.object]].views.add(b.target)
@@ -536,6 +545,8 @@ def _child_candidates(room, draws: _Draws, k, wants: _Wants, q: np.ndarray, r, p
         cand = pq + sign * fq * dist[..., None] + rq * lat[..., None]
         if "face_target" in turns:  # towards the nearest point of the parent (facing)
             return cand, _facing(cand, pq, rq, fq, hq)
+        if "about" in turns:  # back to back (or face to face) with it
+            return cand, same + np.pi
         return cand, same
     if places & _SIDE_PLACES and "face_target" in turns and "wall" not in places:
         # at the side, turned to it: anywhere along it (three stools on the left of an

@@ -102,6 +102,20 @@ def test_contradictions_duplicates_and_many_targets():
     assert feasibility(p).verdict == "infeasible"
 
 
+@pytest.mark.parametrize("rug, hidden", [((1.2, 2.0), True), ((1.6, 2.0), True),
+                                          ((2.0, 2.4), False), ((1.2, 2.6), False)])
+def test_a_rug_under_a_bed_that_covers_it_whole_is_found(rug, hidden):
+    p = plan([obj("bed", size=(1.6, 2.0, 0.55)), obj("rug", "rug", size=(*rug, 0.01))],
+             [{"rule": "under", "object": "rug", "target": "bed"}])
+    found = [f for f in plan_findings(p) if "wholly under" in f.message]
+    assert bool(found) == hidden
+    if hidden:
+        assert str(found[0]).startswith(
+            f"rules[0] (under): 'rug' ({rug[0]:g} x {rug[1]:g} m) lies wholly under 'bed' "
+            "(1.6 x 2 m), so it is hidden in every layout; make 'rug' wider and longer")
+        assert found[0].severity == "implausible"
+
+
 def test_an_angle_that_reads_as_radians_is_found():
     tv, sofa = obj("tv", size=(1.2, 0.1, 0.7)), obj("sofa", size=(2.0, 0.9, 0.8))
 

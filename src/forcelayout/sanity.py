@@ -514,6 +514,20 @@ def _rule_findings(plan: Plan) -> Iterable[Finding]:
                           f"{close[0]} (rules[{j}])", f"keep one of rules[{min(j, k)}] and "
                           f"rules[{max(j, k)}]", severity="infeasible",
                           refs=(f"rules[{j}]", f"rules[{k}]"))
+    # a floor cover under a target that covers it whole: it never shows
+    for k, r in enumerate(plan.rules):
+        rule = _rule(r.rule)
+        if rule is None or rule.name != "under" or r.target is None:
+            continue
+        cover, over = plan.object(r.object).size, plan.object(r.target).size
+        if cover[0] <= over[0] + 1e-9 and cover[1] <= over[1] + 1e-9:
+            yield Finding(f"rules[{k}] ({r.rule})",
+                          f"{r.object!r} ({_fmt(cover[0])} x {_fmt(cover[1])} m) lies wholly "
+                          f"under {r.target!r} ({_fmt(over[0])} x {_fmt(over[1])} m), so it is "
+                          "hidden in every layout",
+                          f"make {r.object!r} wider and longer than {r.target!r} (a rug under a "
+                          "bed shows 0.3 to 0.6 m at its sides and foot), or drop the rule",
+                          refs=(f"rules[{k}]", f"objects[{plan.ids.index(r.object)}]"))
     # one object bound to many targets by one positional relation
     targets: dict[tuple[str, str], list[int]] = defaultdict(list)
     for k, r in enumerate(plan.rules):
@@ -982,7 +996,8 @@ def plan_findings(plan: Plan, *, access: bool = False) -> list[Finding]:
     both ``far_from`` and close to the same target, or
     bound by opposite rules (``in_front_of`` and ``behind``, ``at_wall`` and
     ``in_middle``, ...); duplicated rules; one object bound by one positional
-    relation to more than two targets; a door or window listed as an object;
+    relation to more than two targets; a floor cover ``under`` a target that
+    covers it whole (hidden in every layout); a door or window listed as an object;
     an object whose size is far (a factor 1.5) from its category's usual
     range (:data:`CATEGORY_SIZES`); a floor far from the usual area of the
     room type its name or description names (:data:`ROOM_AREAS`), or more

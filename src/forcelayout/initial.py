@@ -32,8 +32,10 @@ from forcelayout.surfaces.walls import (
     MARGIN,
     REACH,
     back_wall,
+    beyond_reach,
     hanging_centres,
     hidden_heights,
+    pinned_ties,
     target_middle,
     target_stand,
     wall_band,
@@ -96,6 +98,10 @@ class _Wants:
     # per target row, the smallest footprint gap a rule asks of it (StartHint.least), metres:
     # kept where it starts in front of or behind that target
     apart: dict[int, float] = field(default_factory=dict)
+    # per wall object hung on one wall the plan names that a close rule ties it to (a
+    # teacher's desk near the whiteboard on the front wall): that wall, and how far (metres)
+    # its footprint may be from the wall's line for the rule to be met
+    pinned: list[tuple[int, float]] = field(default_factory=list)
     # the wall objects (ids) it is turned towards by a rule (a beanbag facing the TV on the
     # wall): they are hung after the floor settles, where they meet the most such rules
     views: set[str] = field(default_factory=set)
@@ -237,6 +243,9 @@ def _wants(model: ForceModel) -> list[_Wants]:
                 b.target, hanging_centres(model.plan, hangs, None),
                 float(getattr(b.params, "max_angle", 90.0)), float(w), high - float(h),
                 float(getattr(b.params, "view_height", np.inf))))
+    for tie in pinned_ties(model.compiled, model.ids):  # tied to a wall object that hangs
+        # on the one wall its rule names (a teacher's desk near the whiteboard)
+        out[row[tie.floor]].pinned.append((tie.wall, tie.reach))
     for b in model.compiled.bindings:  # objects that something hangs on the wall above
         if b.rule.start is not None and b.rule.start.clear_wall_above_target \
                 and b.target in row:
@@ -1539,6 +1548,11 @@ class _Placer:
             more, more_yaw = self._toward_spot(r, draws, tries // 2, spot)
             cand = np.concatenate([cand, more], axis=1)
             cyaw = np.concatenate([cyaw, more_yaw], axis=1)
+        if self.wants[r].pinned and q < 0 and not corner:
+            # within reach of the wall a wall object tied to it by a close rule hangs on
+            more, more_yaw = self._near_pinned(r, draws, tries // 2)
+            cand = np.concatenate([cand, more], axis=1)
+            cyaw = np.concatenate([cyaw, more_yaw], axis=1)
         if self.front_to_wall[r] and q < 0 and not corner:
             # its front to a wall, as far off it as the child in front of it needs, the
             # child's back at the wall (a reception desk with its chair against the wall)
@@ -1819,6 +1833,8 @@ class _Placer:
         # the sample fails, so this ranks with a spot in a window zone (below)
         unmet = 4.0 * _unmet(self.room, w, cand.reshape(-1, 2), fwd.reshape(-1, 2),
                              rgt.reshape(-1, 2), half[r])
+        if w.pinned:  # beyond reach of the wall a wall object it is tied to hangs on
+            unmet += self._pinned_misses(r, cand[:, 0], fwd[:, 0])
         unmet += self._sight_misses(r, cand, rgt, fwd, solid, pos, yaw, present,
                                     [placed[b] for b in sb])
         if self.front_sights[r]:
@@ -1939,6 +1955,29 @@ class _Placer:
             spot = _sight_spot(self.room, sight, at, -f, corners, tops, counts)
             out += np.isnan(spot[:, 0])
         return out
+
+    def _pinned_misses(self, r: int, cand: np.ndarray, fwd: np.ndarray) -> np.ndarray:
+        """How many of the walls row ``r`` should stand near (``_Wants.pinned``: where a
+        wall object a close rule ties it to hangs) footprints at the candidates (C, 2),
+        turned by their front vectors (C, 2), are out of reach of, shape (C,)."""
+        out = np.zeros(len(cand))
+        for wall, reach in self.wants[r].pinned:
+            out += beyond_reach(self.room, wall, reach, cand, fwd, self.half[r])
+        return out
+
+    def _near_pinned(self, r: int, draws: _Draws, k: int) -> tuple[np.ndarray, np.ndarray]:
+        """``k`` candidate poses (B, k) of row ``r`` within reach of the first wall it should
+        stand near (``_Wants.pinned``): its back to that wall, up to four fifths of the
+        reach off it, half of them turned about to face it."""
+        room, half = self.room, self.half[r]
+        wall, reach = self.wants[r].pinned[0]
+        weight = np.zeros((1, room.n_walls))
+        weight[0, wall] = 1.0
+        cand, cyaw = _wall_candidates(room, draws, k, half, None, weight=weight)
+        off = draws.uniform(0.0, 0.8 * max(reach, 0.0), k)
+        cand = cand + room.normal[wall] * off[..., None]
+        about = draws.random(k) < 0.5
+        return cand, np.where(about, cyaw + np.pi, cyaw)
 
     def _in_window_zone(self, r: int, cand: np.ndarray, rgt: np.ndarray, fwd: np.ndarray
                         ) -> np.ndarray:

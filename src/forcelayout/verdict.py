@@ -18,7 +18,7 @@ from forcelayout.forces import ForceModel
 from forcelayout.layout import Layout, Pose
 from forcelayout.rules.base import State
 from forcelayout.rules.physical import wall_gaps
-from forcelayout.surfaces.walls import unhung, unseen
+from forcelayout.surfaces.walls import unhung, unreached, unseen
 from forcelayout.validate.checks import check_floors
 
 __all__ = ["FloorVerdict", "JudgeRequest", "judge_floor", "judge_floors", "allowed_misses"]
@@ -221,6 +221,16 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
                     # object (moving the second bed alone set it beside the first, each time)
                     v.at_fault.update([row[n] for n in near] or [
                         row[o.object] for o in model.wall_views if o.target == view.target])
+        # the floor objects tied by a close rule to a wall object hung on one wall the plan
+        # names, out of reach of that wall (a teacher's desk near the whiteboard)
+        for v, far in zip(out, unreached(model.compiled, list(model.ids), pos, yaw),
+                          strict=True):
+            for tie in far:
+                v.failures.append(str(tie.binding))
+                v.missed.add(-1 - tie.binding.index)
+                if tie.binding.required:
+                    v.required.add(-1 - tie.binding.index)
+                v.at_fault.add(row[tie.floor])
         radius = float((check_kwargs or {}).get("agent_radius", 0.2))
         band = bool((check_kwargs or {}).get("wall_band", False))
         short = []  # the floors with too little free floor

@@ -34,7 +34,8 @@ from forcelayout.surfaces.plane import (
 
 __all__ = ["EYE_LEVEL", "REACH", "MARGIN", "wall_pose", "wall_band", "binding_walls",
            "fits_band", "free_wall_stretches", "hanging_centres", "hidden_heights", "back_wall",
-           "place_on_walls", "unhung", "Unhung", "unseen", "Unseen"]
+           "place_on_walls", "unhung", "Unhung", "unseen", "Unseen", "PinnedTie", "pinned_ties",
+           "unreached", "beyond_reach"]
 
 #: Eye level, metres: wall objects settle with their centre near this height.
 EYE_LEVEL = 1.6
@@ -713,6 +714,72 @@ def unseen(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray,
                     if top > low and u0 < spans[j, 1] + w / 2 and u1 > spans[j, 0] - w / 2]
                 out[k].append(Unseen(b, near))
     return out
+
+
+class PinnedTie(NamedTuple):
+    """A close rule between a floor object and a wall object that hangs on the one wall
+    its rule names (a teacher's desk ``near`` the whiteboard ``on_wall`` wall 3): the
+    floor object must stand within ``reach`` of that wall for the rule to be met."""
+
+    binding: Binding
+    floor: str  #: the floor object's id
+    wall: int  #: the wall the wall object hangs on
+    reach: float  #: metres from the wall's line the floor object's footprint may be
+
+
+def pinned_ties(cp: CompiledPlan, ids: Sequence[str]) -> list[PinnedTie]:
+    """The close rules (``closeness="close"``: ``near``, ``next_to``) between the floor
+    objects ``ids`` and wall objects that hang on one wall the plan names (their surface
+    rule's ``wall``), either way round; the floor object's reach is the rule's ``distance``
+    (:data:`REACH` where it has none) and the wall object's depth."""
+    floor = set(ids)
+    out = []
+    for b in cp.bindings:
+        if b.rule.closeness != "close" or b.target is None:
+            continue
+        for oid, other in ((b.object, b.target), (b.target, b.object)):
+            hangs = cp.surface_of(other)
+            wall = None if hangs is None or hangs.target is not None \
+                else getattr(hangs.params, "wall", None)
+            if oid in floor and wall is not None and 0 <= int(wall) < cp.room.n_walls:
+                reach = float(getattr(b.params, "distance", REACH))
+                out.append(PinnedTie(b, oid, int(wall),
+                                     reach + float(cp.plan.object(other).size[1])))
+    return out
+
+
+def unreached(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray
+              ) -> list[list[PinnedTie]]:
+    """Per floor arrangement (``pos`` (B, N, 2), ``yaw`` (B, N) of the floor objects
+    ``ids``), the :func:`pinned_ties` it leaves unmet: the floor object's footprint
+    farther than its reach from the wall, or past either end of it."""
+    ties = pinned_ties(cp, ids)
+    out: list[list[PinnedTie]] = [[] for _ in range(len(pos))]
+    if not ties:
+        return out
+    size = cp.size(ids)
+    row = {oid: k for k, oid in enumerate(ids)}
+    for tie in ties:
+        r = row[tie.floor]
+        far = beyond_reach(cp.room, tie.wall, tie.reach, pos[:, r], front_vectors(yaw[:, r]),
+                           0.5 * size[r, :2])
+        for b in np.flatnonzero(far):
+            out[b].append(tie)
+    return out
+
+
+def beyond_reach(room: RoomGeometry, wall: int, reach: float, pos: np.ndarray,
+                 front: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Whether footprints (centres ``pos`` (..., 2), fronts ``front`` (..., 2), half size
+    ``half`` (2,)) lie farther than ``reach`` metres from a wall's line, or past either end
+    of the wall, shape (...)."""
+    n, t = room.normal[wall], room.tangent[wall]
+    rgt = np.stack([front[..., 1], -front[..., 0]], axis=-1)
+    hx, hy = float(half[0]), float(half[1])
+    gap = pos @ n - room.normal_offset[wall] - hx * np.abs(rgt @ n) - hy * np.abs(front @ n)
+    along = pos @ t - room.tangent_offset[wall]
+    wide = hx * np.abs(rgt @ t) + hy * np.abs(front @ t)
+    return (gap > reach + 1e-9) | (along + wide < 0.0) | (along - wide > room.length[wall])
 
 
 class Unseen(NamedTuple):

@@ -206,6 +206,22 @@ def test_a_rule_every_sample_misses_is_named_as_likely_impossible():
     assert res.hint().endswith("loosen or remove it (the plan requires it)")
 
 
+def test_a_run_gives_up_early_on_a_rule_no_sample_meets():
+    """With the default budget (64 samples for 16 layouts), a run that has accepted none
+    after a quarter of it, every sample missing one rule, stops and says so; given
+    ``max_attempts`` it draws them all."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fl.generate(TOO_FAR, 16, seed=0)
+    assert len(res) == 0 and res.attempted == 16 and res.stopped_early == 64
+    assert res.hint(cli=True).endswith(
+        "(stopped after 16 of 64 samples, none accepted: --max-attempts 64 draws them all)")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fl.generate(TOO_FAR, 2, seed=0, max_attempts=12)
+    assert res.attempted == 12 and res.stopped_early is None
+
+
 def test_indexing_an_empty_generation_says_why(empty_run):
     res, _ = empty_run
     with pytest.raises(EmptyGenerationError) as info:

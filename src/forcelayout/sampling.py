@@ -162,6 +162,10 @@ def _solve_many(plan: Plan, seeds: list[int], opts: Options) -> list[Layout]:
     return layouts
 
 
+#: Fewest samples a run with the default budget draws before it may give up with none
+#: accepted (:attr:`Generation.stopped_early`).
+_GIVE_UP_AFTER = 10
+
 #: How a sample's failure line begins where it misses a rule the plan requires.
 _REQUIRED = "rules: required by the plan"
 
@@ -277,6 +281,12 @@ class Generation:
         When fewer than ``wanted`` layouts were accepted, the dominant cause
         in one line (:func:`~forcelayout.diagnose.dominant_cause` of the
         reports); ``None`` otherwise.
+    stopped_early : int or None
+        The sample budget a run stopped short of, where it gave up early: no
+        layout accepted after a quarter of its default budget (10 samples at
+        least) while the plan looked infeasible before sampling, or while one
+        rule failed nearly every sample (:meth:`hint` names it); ``None``
+        otherwise. A run given ``max_attempts`` draws them all.
     """
 
     plan: Plan
@@ -287,6 +297,7 @@ class Generation:
     wanted: int | None = None
     feasibility: Feasibility | None = None
     why: str | None = None
+    stopped_early: int | None = None
 
     def __iter__(self) -> Iterator[Layout]:
         return iter(self.layouts)
@@ -391,6 +402,9 @@ class Generation:
             todo = f"try {attempts(more)} (about {k / tried:.0%} of samples are accepted)"
         else:
             todo = f"loosen the plan, or try {attempts(4 * tried)} for a rare success"
+        if self.stopped_early is not None:
+            todo += (f" (stopped after {tried} of {self.stopped_early} samples, none accepted: "
+                     f"{attempts(self.stopped_early)} draws them all)")
         line = (f"only {k} of {n} layouts of plan {self.plan.name!r} from {tried} samples: "
                 f"{self._cause()}; {todo}")
         return " ".join(line.split())  # one line whatever the failure messages hold
@@ -427,6 +441,17 @@ class Generation:
         if m < max(10, 0.9 * len(missed)):
             return None
         return rule, m, len(missed), rule in {s.label for s in self.plan.rules if s.required}
+
+    def _hopeless(self) -> bool:
+        """Whether a run with nothing accepted yet may give up: the plan looked infeasible
+        before sampling, or nine in ten samples failed for their rules, one rule among them
+        nearly every time (:meth:`_never_met`)."""
+        if self.layouts:
+            return False
+        if self.feasibility is not None and self.feasibility.verdict == "infeasible":
+            return True
+        ruled = sum(any(f.startswith("rules:") for f in r.failures) for r in self.reports)
+        return ruled >= 0.9 * len(self.reports) and self._never_met() is not None
 
     def _crowded(self) -> str | None:
         """The feasibility note on too little free floor, where most samples failed the
@@ -833,10 +858,20 @@ def generate(
     seen = DistinctLayouts(distinct_tol)
     samples = iter_samples(plan, seed, stop=budget if n > 0 else 0, executor=executor,
                            options=opts, expect=n)
+    # with the default budget, a run that has accepted nothing after a quarter of it gives
+    # up where more samples are unlikely to help (an impossible rule, an infeasible plan)
+    give_up = max(_GIVE_UP_AFTER, budget // 4) if max_attempts is None else None
+    stopped = None
     try:
         for _, lay in samples:
             reports.append(lay.report)
             if not lay.report.valid:
+                if give_up is not None and not accepted and len(reports) >= give_up \
+                        and len(reports) < budget and Generation(
+                            plan, int(seed), [], reports, 0.0, wanted=n,
+                            feasibility=feas)._hopeless():
+                    stopped = budget
+                    break
                 continue
             if seen.add_if_new(lay):
                 accepted.append(lay)
@@ -853,7 +888,7 @@ def generate(
         if bar is not None:
             bar.close()
     result = Generation(plan, int(seed), accepted, reports, time.perf_counter() - t0,
-                        wanted=n, feasibility=feas)
+                        wanted=n, feasibility=feas, stopped_early=stopped)
     if len(accepted) < n:
         result.why = result._cause()
         warnings.warn(FewLayoutsWarning(result.hint() or result.why, accepted=len(accepted),

@@ -77,8 +77,8 @@ class FloorVerdict:
         return short and rest(self) == rest(other) and self.free > other.free + 0.005
 
     def rejecting(self, misses: int = 0) -> int:
-        """How many failures reject the arrangement: failed checks, and the unmet
-        bindings beyond ``misses``."""
+        """How many failures reject the arrangement: failed checks, the unmet bindings
+        the plan requires, and the other unmet bindings beyond ``misses``."""
         needed = len(self.required)
         return len(self.failures) - self.unmet + needed + max(0, self.unmet - needed - misses)
 

@@ -757,12 +757,11 @@ def unreached(cp: CompiledPlan, ids: list[str], pos: np.ndarray, yaw: np.ndarray
     out: list[list[PinnedTie]] = [[] for _ in range(len(pos))]
     if not ties:
         return out
-    size = cp.size(ids)
     row = {oid: k for k, oid in enumerate(ids)}
     for tie in ties:
         r = row[tie.floor]
         far = beyond_reach(cp.room, tie.wall, tie.reach, pos[:, r], front_vectors(yaw[:, r]),
-                           0.5 * size[r, :2])
+                           0.5 * cp.size([tie.floor])[0, :2])
         for b in np.flatnonzero(far):
             out[b].append(tie)
     return out

@@ -355,6 +355,12 @@ def test_generate_access_requires_free_access_zones(tmp_path, capsys, name):
     assert note.startswith(f"note: {blocked[False]} of the 8 layouts leave an object no free "
                            "access zone (") and note.endswith("--access asks for one in every "
                                                               "layout")
+    # naming the files of those layouts, as written
+    named = sorted(f.stem for f in (tmp_path / "out0").glob("*.json")
+                   if f.name not in ("plan.json", "summary.json")
+                   and check_layout(Layout.from_json(f.read_text(), p), access_clearance=True)
+                   .failed("access"))
+    assert all(stem in note for stem in named[:5])
     assert notes[True] == []
 
 

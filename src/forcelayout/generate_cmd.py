@@ -91,20 +91,22 @@ def _draw(layout: Layout, path: Path, access: bool = False) -> None:
     layout.picture(path, show_access=access)
 
 
-def _blocked_access(layouts: list[Layout]) -> tuple[int, Counter[str], dict[str, str]]:
-    """How many of the layouts leave some object with every access zone blocked (as the
-    ``access`` check judges the zones), how often each such object, and what covers it
-    most in the first layout where it is."""
+def _blocked_access(layouts: list[Layout]
+                    ) -> tuple[list[int], Counter[str], dict[str, str]]:
+    """Which of the layouts (their positions) leave some object with every access zone
+    blocked (as the ``access`` check judges the zones), how often each such object, and
+    what covers it most in the first layout where it is."""
     from forcelayout.access import blocked_objects
 
-    count, objects, by = 0, Counter[str](), {}
-    for lay in layouts:
+    which, objects, by = [], Counter[str](), {}
+    for k, lay in enumerate(layouts):
         shut = blocked_objects(lay)
-        count += bool(shut)
+        if shut:
+            which.append(k)
         objects.update(shut.keys())
         for oid, covers in shut.items():
             by.setdefault(oid, covers[0][0] if covers else "wall")
-    return count, objects, by
+    return which, objects, by
 
 
 def run_generate(args: argparse.Namespace) -> int:
@@ -193,12 +195,16 @@ def run_generate(args: argparse.Namespace) -> int:
               f"{'it' if len(still) == 1 else 'them'} one place (move a door or window, or "
               "loosen a rule, for variety)")
     if not args.access and result.layouts:  # kept free by forces only: say where it is not
-        blocked, objects, by = _blocked_access(result.layouts)
-        if blocked:
+        shut, objects, by = _blocked_access(result.layouts)
+        if shut:
             which = ", ".join(f"{oid!r} x{k} (by {by[oid]!r})"
                               for oid, k in objects.most_common(3))
-            print(f"note: {blocked} of the {summary['accepted']} layouts leave an object no "
-                  f"free access zone ({which}); --access asks for one in every layout")
+            files = [layout_stem(plan.name, k, args.n) for k in shut]  # as written
+            named = ", ".join(files[:5]) + (f" and {len(files) - 5} more" if len(files) > 5
+                                            else "")
+            print(f"note: {len(shut)} of the {summary['accepted']} layouts leave an object no "
+                  f"free access zone ({which}; {named}); --access asks for one in every "
+                  "layout")
     if summary["failure_reasons"]:
         # the counts, and one line of the most common kind (summary.json has every line)
         top = next(iter(summary["failure_reasons"]))

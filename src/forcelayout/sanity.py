@@ -514,10 +514,12 @@ def _rule_findings(plan: Plan) -> Iterable[Finding]:
                           f"{close[0]} (rules[{j}])", f"keep one of rules[{min(j, k)}] and "
                           f"rules[{max(j, k)}]", severity="infeasible",
                           refs=(f"rules[{j}]", f"rules[{k}]"))
-    # a floor cover under a target that covers it whole: it never shows
+    # a floor cover under a target that covers it whole: it never shows (a rule that
+    # starts its object beneath its target: ``under``)
     for k, r in enumerate(plan.rules):
         rule = _rule(r.rule)
-        if rule is None or rule.name != "under" or r.target is None:
+        if rule is None or rule.start is None or rule.start.place != "beneath" \
+                or r.target is None:
             continue
         cover, over = plan.object(r.object).size, plan.object(r.target).size
         if cover[0] <= over[0] + 1e-9 and cover[1] <= over[1] + 1e-9:

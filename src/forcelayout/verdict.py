@@ -56,6 +56,15 @@ class FloorVerdict:
     free: float = 1.0
     required: set[int] = field(default_factory=set)
 
+    def _miss(self, binding: Binding, key: int) -> None:
+        """Record ``binding`` unmet under ``key`` (its position in the model's
+        ``bindings``, or ``-1 - index`` for a rule judged off the floor simulation): one
+        more failure, among ``missed``, and among ``required`` where the plan requires it."""
+        self.failures.append(str(binding))
+        self.missed.add(key)
+        if binding.required:
+            self.required.add(key)
+
     def better_than(self, other: FloorVerdict, misses: int = 0) -> bool:
         """Whether this arrangement is nearer acceptance than ``other``.
 
@@ -189,10 +198,7 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
                 for wall_binding, near, higher in missing:
                     oid, target = wall_binding.object, wall_binding.target
                     if higher:  # the wall stage hangs it higher, its rule unmet
-                        v.failures.append(str(wall_binding))
-                        v.missed.add(-1 - wall_binding.index)
-                        if wall_binding.required:
-                            v.required.add(-1 - wall_binding.index)
+                        v._miss(wall_binding, -1 - wall_binding.index)
                         v.at_fault.add(row[target])
                     elif target is not None:
                         v.failures.append(f"walls: no room for {oid!r} on the wall above "
@@ -213,10 +219,7 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
                                                 yaw[clean]), strict=True):
                 v = out[b]
                 for view, near in missing:
-                    v.failures.append(str(view))
-                    v.missed.add(-1 - view.index)
-                    if view.required:
-                        v.required.add(-1 - view.index)
+                    v._miss(view, -1 - view.index)
                     # the objects in the way there, else every object turned to that wall
                     # object (moving the second bed alone set it beside the first, each time)
                     v.at_fault.update([row[n] for n in near] or [
@@ -226,10 +229,7 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
         for v, far in zip(out, unreached(model.compiled, list(model.ids), pos, yaw),
                           strict=True):
             for tie in far:
-                v.failures.append(str(tie.binding))
-                v.missed.add(-1 - tie.binding.index)
-                if tie.binding.required:
-                    v.required.add(-1 - tie.binding.index)
+                v._miss(tie.binding, -1 - tie.binding.index)
                 v.at_fault.add(row[tie.floor])
         radius = float((check_kwargs or {}).get("agent_radius", 0.2))
         band = bool((check_kwargs or {}).get("wall_band", False))
@@ -254,10 +254,7 @@ def judge_floors(model: ForceModel, pos: np.ndarray, yaw: np.ndarray,
         b = model.bindings[k]
         for s in np.flatnonzero(~ok):
             v = out[s]
-            v.failures.append(str(b))
-            v.missed.add(k)
-            if b.required:
-                v.required.add(k)
+            v._miss(b, k)
             v.at_fault.add(row[b.object])
             v.at_fault.update(_holding(model, pos[s], b))
     return out

@@ -581,7 +581,7 @@ def test_a_rule_the_plan_requires_is_met_in_every_layout_whatever_the_share():
     assert len(gen) == 10
     for lay in [*gen, *rejection_sample(plan, 3, seed=0, max_tries=3000)]:
         (met,) = [r.satisfied for r in lay.rule_report() if r.index == 0]
-        assert met
+        assert met and lay.required_unmet == []
     # a rule no layout meets rejects every sample, whatever share is asked for
     far = copy.deepcopy(TOO_FAR)
     far["rules"][2]["required"] = True
@@ -591,3 +591,6 @@ def test_a_rule_the_plan_requires_is_met_in_every_layout_whatever_the_share():
     assert len(res) == 0
     assert [f for r in res.reports for f in r.failures if f.startswith("rules:")] == [
         "rules: required by the plan; unmet: far_from(wardrobe, bed)"] * 2
+    lay = fl.Layout(fl.Plan.from_dict(far), {"bed": fl.Pose(0.7, 1.0, 0.0),
+                                             "wardrobe": fl.Pose(2.4, 2.7, np.pi)})
+    assert lay.required_unmet == ["far_from(wardrobe, bed)"]

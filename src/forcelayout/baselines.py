@@ -759,7 +759,6 @@ def rejection_sample(
     t0 = time.perf_counter()
     c = _compile(plan)
     n_rules = len(plan.rules)
-    required = [spec.required for spec in plan.rules]  # met in every layout accepted
     accepted: list[Layout] = []
     failures: dict[str, int] = {}
     tries = 0
@@ -784,10 +783,9 @@ def rejection_sample(
             if not rep.ok:
                 fail(rep.failures)
                 continue
-            report = early.rule_report()
-            unmet = sum(r.satisfied is False for r in report)
+            unmet = sum(r.satisfied is False for r in early.rule_report())
             if n_rules and 1.0 - unmet / n_rules < min_rule_satisfaction \
-                    or any(r.satisfied is False and required[r.index] for r in report):
+                    or early.required_unmet:
                 fail(["rules"])
                 continue
             poses, more = _place_rest(plan, floor, rng)
@@ -800,8 +798,7 @@ def rejection_sample(
                 fail(rep.failures)
                 continue
             sat = lay.rule_satisfaction
-            if sat < min_rule_satisfaction or any(
-                    r.satisfied is False and required[r.index] for r in lay.rule_report()):
+            if sat < min_rule_satisfaction or lay.required_unmet:
                 fail(["rules"])
                 continue
             lay.report.rule_satisfaction = sat

@@ -208,6 +208,14 @@ class Layout:
         judged = [r.satisfied for r in self.rule_report() if r.satisfied is not None]
         return float(np.mean(judged)) if judged else 1.0
 
+    @property
+    def required_unmet(self) -> list[str]:
+        """The rules the plan marks ``required`` that this layout leaves unmet, labelled as
+        reports label them (``at_wall(desk_chair)``); no acceptance share lets one go."""
+        rules = self.plan.rules
+        return [r.label for r in self.rule_report()
+                if r.satisfied is False and rules[r.index].required]
+
     def check(self, **kwargs: Any) -> Any:
         """Run the deterministic checks; see :func:`forcelayout.validate.check_layout`."""
         from forcelayout.validate import check_layout

@@ -184,12 +184,9 @@ def _judge(layout: Layout, opts: Options) -> None:
 
         shown, need = _percents(report.rule_satisfaction, opts.min_rule_satisfaction)
         failures.append(f"rules: {shown}% met, below {need}%; unmet: {', '.join(unmet)}")
-    elif report.rule_satisfaction < 1.0:
-        rules = layout.plan.rules
-        needed = [r.label for r in layout.rule_report()
-                  if r.satisfied is False and rules[r.index].required]
-        if needed:  # whatever share the acceptance asks for
-            failures.append(f"{_REQUIRED}; unmet: {', '.join(needed)}")
+    elif report.rule_satisfaction < 1.0 and (needed := layout.required_unmet):
+        # whatever share the acceptance asks for
+        failures.append(f"{_REQUIRED}; unmet: {', '.join(needed)}")
     report.failures = failures
     report.valid = not failures
 

@@ -196,6 +196,32 @@ def test_contains_boxes_is_shapely_contains_but_for_touching_within_a_nanometre(
         assert shapely.distance(shapely.boundary(room.shape), polys[k]) < 1e-8
 
 
+@settings(max_examples=150, deadline=None)
+@given(floor=st.sampled_from(range(len(_FLOORS))),
+       points=st.lists(st.one_of(st.tuples(st.floats(-1, 7), st.floats(-1, 6)),
+                                 st.tuples(st.integers(-10, 130), st.integers(-10, 120)).map(
+                                     lambda ij: (0.05 * ij[0], 0.05 * ij[1]))),
+                       min_size=1, max_size=12))
+def test_contains_points_is_the_same_in_numpy_and_compiled(floor, points):
+    """Points on L- and U-shaped and slanted floors, many on a wall or at a corner (a 5 cm
+    grid): the compiled kernel (with forcelayout[fast]) agrees with the numpy form exactly,
+    and both with ``shapely.contains`` off the walls."""
+    from forcelayout import _compiled
+    from forcelayout import geometry as geo
+
+    room = RoomGeometry(_FLOORS[floor])
+    p = np.array(points, dtype=float)
+    want = geo._contains_points(p, room.a, room.b)
+    assert np.array_equal(room.contains(p), want)
+    assert room.contains(p[0]).shape == () and room.contains(p[None]).shape == (1, len(p))
+    fast = _compiled.kernels()
+    if fast is not None:
+        assert np.array_equal(fast.contains_points(p, room.a, room.b), want)
+    pts = shapely.points(p)
+    off = shapely.distance(shapely.boundary(room.shape), pts) > 1e-9
+    assert np.array_equal(want[off], shapely.contains(room.shape, pts)[off])
+
+
 @given(st.floats(-np.pi + 1e-6, np.pi, allow_nan=False))
 def test_yaw_facing_inverts_front_vectors(yaw):
     assert np.isclose(yaw_facing(front_vectors(yaw) * 2.5), yaw)

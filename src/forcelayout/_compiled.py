@@ -4,7 +4,8 @@
 then computes :func:`~forcelayout.geometry.obb_separation` and
 :func:`~forcelayout.geometry.obb_gap` (and whether footprints lie on a
 floor that is not a rectangle,
-:meth:`~forcelayout.geometry.RoomGeometry.contains_boxes`) with the numba
+:meth:`~forcelayout.geometry.RoomGeometry.contains_boxes`, and whether points lie on
+it, :meth:`~forcelayout.geometry.RoomGeometry.contains`) with the numba
 generalised ufuncs below instead of a few dozen numpy operations on
 temporaries, and
 :mod:`forcelayout.validate` the distance of every free-floor grid cell to
@@ -41,8 +42,7 @@ _LOADED: list[Any] = []  # [namespace of kernels, or None when numba is absent o
 
 def kernels() -> SimpleNamespace | None:
     """The compiled kernels (``obb_separation``, ``obb_gap``, ``footprint_dist2``,
-    ``contains_boxes``), or None
-    without numba.
+    ``contains_boxes``, ``contains_points``), or None without numba.
 
     Compiled (or loaded from numba's cache) on the first call in a process.
     """
@@ -176,5 +176,18 @@ def _compile(*, required: bool) -> SimpleNamespace | None:
             crossed = crossed or (hit and off < reach - 1e-9)
         out[0] = inside and not crossed
 
+    @guvectorize([(float64[:], m, m, boolean[:])], "(t),(w,t),(w,t)->()", nopython=True,
+                 cache=True)
+    def contains_points(p, a, b, out):  # pragma: no cover - compiled
+        # geometry.RoomGeometry.contains, one point at a time, operation for operation
+        x, y = p[0], p[1]
+        odd = False
+        for w in range(a.shape[0]):
+            if (a[w, 1] > y) != (b[w, 1] > y):
+                if x < a[w, 0] + (y - a[w, 1]) * (b[w, 0] - a[w, 0]) / (b[w, 1] - a[w, 1]):
+                    odd = not odd
+        out[0] = odd
+
     return SimpleNamespace(obb_separation=obb_separation, obb_gap=obb_gap,
-                           footprint_dist2=footprint_dist2, contains_boxes=contains_boxes)
+                           footprint_dist2=footprint_dist2, contains_boxes=contains_boxes,
+                           contains_points=contains_points)

@@ -146,9 +146,13 @@ def zone_boxes(pos: np.ndarray, right: np.ndarray, front: np.ndarray, half: np.n
     along = np.abs(ly[..., 0]) * half[..., 1] + np.abs(lx[..., 0]) * half[..., 0]
     wide = np.abs(ly[..., 0]) * half[..., 0] + np.abs(lx[..., 0]) * half[..., 1]
     centre = pos + out * (along + 0.5 * depth)[..., None]
-    lateral = np.stack([out[..., 1], -out[..., 0]], axis=-1)
-    return centre, out, lateral, np.stack([wide, 0.5 * np.broadcast_to(depth, wide.shape)],
-                                          axis=-1)
+    lateral = np.empty(out.shape)  # filled in place: two stacks cost more than the rest
+    lateral[..., 0] = out[..., 1]
+    np.negative(out[..., 0], out=lateral[..., 1])
+    size = np.empty((*wide.shape, 2))
+    size[..., 0] = wide
+    size[..., 1] = 0.5 * depth
+    return centre, out, lateral, size
 
 
 class AccessTerm:

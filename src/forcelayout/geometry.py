@@ -60,7 +60,11 @@ def wrap_angle(a: np.ndarray | float) -> np.ndarray:
 def front_vectors(yaw: np.ndarray) -> np.ndarray:
     """Unit front directions ``(-sin yaw, cos yaw)``, shape ``yaw.shape + (2,)``."""
     yaw = np.asarray(yaw, dtype=float)
-    return np.stack([-np.sin(yaw), np.cos(yaw)], axis=-1)
+    out = np.empty((*yaw.shape, 2))
+    np.sin(yaw, out=out[..., 0])
+    np.negative(out[..., 0], out=out[..., 0])
+    np.cos(yaw, out=out[..., 1])
+    return out
 
 
 def yaw_facing(direction: np.ndarray) -> np.ndarray:
@@ -104,7 +108,10 @@ def facing_point(points: np.ndarray, centre: np.ndarray, right: np.ndarray,
 def right_vectors(yaw: np.ndarray) -> np.ndarray:
     """Unit local +x directions ``(cos yaw, sin yaw)``, shape ``yaw.shape + (2,)``."""
     yaw = np.asarray(yaw, dtype=float)
-    return np.stack([np.cos(yaw), np.sin(yaw)], axis=-1)
+    out = np.empty((*yaw.shape, 2))  # filled in place: a stack of two costs more here
+    np.cos(yaw, out=out[..., 0])
+    np.sin(yaw, out=out[..., 1])
+    return out
 
 
 def rays_to_walls(room: RoomGeometry, points: np.ndarray, directions: np.ndarray
@@ -575,6 +582,17 @@ class Openings:
 _ROOMS: dict[int, tuple[Room, RoomGeometry]] = {}
 
 
+def _contains_points(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Whether points (..., 2) lie inside the polygon of walls ``a`` to ``b`` (W, 2) by the
+    even-odd rule, shape (...): the numpy form of :meth:`RoomGeometry.contains`."""
+    x, y = p[..., 0:1], p[..., 1:2]
+    ax, ay, bx, by = a[:, 0], a[:, 1], b[:, 0], b[:, 1]
+    crosses = (ay > y) != (by > y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xint = ax + (y - ay) * (bx - ax) / (by - ay)
+    return (np.sum(crosses & (x < xint), axis=-1) % 2) == 1
+
+
 def _contains_boxes(c: np.ndarray, a: np.ndarray, b: np.ndarray,
                     normal: np.ndarray) -> np.ndarray:
     """:meth:`RoomGeometry.contains_boxes` in numpy, on rectangles (..., 4, 2) and the walls
@@ -806,11 +824,15 @@ class RoomGeometry:
         return _contains_boxes(c, self.a, self.b, self.normal)
 
     def contains(self, points: np.ndarray) -> np.ndarray:
-        """Whether points lie inside the floor polygon (even-odd rule), shape (...)."""
+        """Whether points lie inside the floor polygon (even-odd rule), shape (...).
+
+        Notes
+        -----
+        With numba installed (``forcelayout[fast]``) a compiled kernel computes
+        it, the same for finite inputs (:mod:`forcelayout._compiled`).
+        """
         p = np.asarray(points, dtype=float)
-        x, y = p[..., 0:1], p[..., 1:2]
-        ax, ay, bx, by = self.a[:, 0], self.a[:, 1], self.b[:, 0], self.b[:, 1]
-        crosses = (ay > y) != (by > y)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            xint = ax + (y - ay) * (bx - ax) / (by - ay)
-        return (np.sum(crosses & (x < xint), axis=-1) % 2) == 1
+        fast = kernels()
+        if fast is not None:
+            return fast.contains_points(p, self.a, self.b)
+        return _contains_points(p, self.a, self.b)

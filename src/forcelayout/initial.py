@@ -13,6 +13,7 @@ the wrong wall. A plugin rule gets the same help by declaring a hint.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -357,7 +358,7 @@ class _Draws:
     def random(self, shape: int | tuple[int, ...]) -> np.ndarray:
         """Uniform numbers in [0, 1) of shape (B, *shape)."""
         shape = (shape,) if isinstance(shape, int) else tuple(shape)
-        n = int(np.prod(shape))
+        n = math.prod(shape)
         if self.at + n > self.buf.shape[1]:  # every sample draws its next block
             fresh = np.stack([g.random(max(n, self.block)) for g in self.rngs])
             self.buf = np.concatenate([self.buf[:, self.at:], fresh], axis=1)

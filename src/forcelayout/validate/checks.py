@@ -1023,9 +1023,13 @@ class _PathFinder:
         end = dst[np.argmin(dist[dst])]
         if not np.isfinite(dist[end]):
             return []
-        path = [int(end)]
-        while back[path[-1]] >= 0:
-            path.append(back[path[-1]])
+        path = [node := int(end)]
+        grow = path.append
+        for _ in range(len(back)):  # a chain of predecessors is at most every node long
+            node = back[node]
+            if node < 0:
+                break
+            grow(node)
         cells = self.cells[np.array(path[::-1])]
         hits = self.blocked[:, cells]  # (S, L)
         crossed = np.nonzero(hits.any(1))[0]

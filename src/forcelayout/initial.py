@@ -509,7 +509,7 @@ def _corner_candidates(
 def _back_walls(room, p: np.ndarray, yaw: np.ndarray, half: np.ndarray) -> np.ndarray:
     """The wall each object at pose (p (B, 2), yaw (B,), half extents (B, 2)) stands with
     its back against, or -1, (B,)."""
-    f = np.stack([-np.sin(yaw), np.cos(yaw)], axis=-1)
+    f = geo.front_vectors(yaw)
     s = p @ room.normal.T - room.normal_offset - half[:, 1:2]  # (B, W)
     t = p @ room.tangent.T - room.tangent_offset
     ok = (f @ room.normal.T > 0.9) & (np.abs(s) < 0.15) & (t > -0.1) & (t < room.length + 0.1)
@@ -524,8 +524,8 @@ def _child_candidates(room, draws: _Draws, k, wants: _Wants, q: np.ndarray, r, p
     nb = len(q)
     bi = np.arange(nb)
     yq, pq, hq = yaw[bi, q], pos[bi, q][:, None, :], half[q]  # (B,), (B, 1, 2), (B, 2)
-    fq = np.stack([-np.sin(yq), np.cos(yq)], axis=-1)[:, None, :]  # (B, 1, 2)
-    rq = np.stack([np.cos(yq), np.sin(yq)], axis=-1)[:, None, :]
+    fq = geo.front_vectors(yq)[:, None, :]  # (B, 1, 2)
+    rq = geo.right_vectors(yq)[:, None, :]
     side = np.where(draws.random(k) < 0.5, -1.0, 1.0)  # (B, k)
     if "right" in places:
         side[:] = 1.0
@@ -1354,11 +1354,10 @@ class _Placer:
         clear = np.full(bk, 0.3)
         if solid:
             oy = yaw[:, solid]  # (B, S)
-            oc, os_ = np.cos(oy), np.sin(oy)
             sep = geo.obb_separation(pos[:, solid][:, None] - cand[:, :, None],
                                      rgt[:, :, None], fwd[:, :, None], ext[None, None, None],
-                                     np.stack([oc, os_], axis=2)[:, None],
-                                     np.stack([-os_, oc], axis=2)[:, None],
+                                     geo.right_vectors(oy)[:, None],
+                                     geo.front_vectors(oy)[:, None],
                                      self.half[solid][None, None])  # (B, K, S)
             if present is not None:  # rows that stand in another sample's room only
                 sep = np.where(present[:, None, :], sep, np.inf)
@@ -1422,9 +1421,12 @@ class _Placer:
                                         fwd[:, :, None], half[r], zl[:, None], zo[:, None],
                                         zh[:, None]) < -_INTRUDE  # (B, K, Za)
             left = free[:, None] & ~inside
-            for u in np.unique(o):
-                m = o == u
-                misses += free[:, m].any(-1)[:, None] & ~left[:, :, m].any(-1)
+            # per owner: a zone free before, none left free with the candidate there
+            order = np.argsort(o, kind="stable")
+            first = np.flatnonzero(np.r_[True, o[order][1:] != o[order][:-1]])
+            was = np.logical_or.reduceat(free[:, order], first, axis=1)  # (B, U)
+            still = np.logical_or.reduceat(left[:, :, order], first, axis=2)  # (B, K, U)
+            misses += (was[:, None] & ~still).sum(-1)
         mine = np.flatnonzero(acc.owner == r)
         if len(mine):  # its own zones at the candidate
             zc, zo, zl, zh = zone_boxes(cand[:, :, None], rgt[:, :, None], fwd[:, :, None],
@@ -1697,9 +1699,8 @@ class _Placer:
         the zones of the windows it is too tall for first, each group in draw order; the
         candidates after the first ``k0`` as they are."""
         head, head_yaw = cand[:, :k0], cyaw[:, :k0]
-        c, s = np.cos(head_yaw), np.sin(head_yaw)
-        inside = self._in_window_zone(r, head, np.stack([c, s], axis=2),
-                                      np.stack([-s, c], axis=2))
+        inside = self._in_window_zone(r, head, geo.right_vectors(head_yaw),
+                                      geo.front_vectors(head_yaw))
         order = np.argsort(inside, axis=1, kind="stable")[:, :tries]
         cand = np.concatenate([np.take_along_axis(head, order[..., None], axis=1),
                                cand[:, k0:]], axis=1)
@@ -1716,9 +1717,7 @@ class _Placer:
         half, walkable = self.half, self.walkable
         w = self.wants[r]
         cand, cyaw, loose = self._draw(r, placed, pos, yaw, rngs, tries, spread)
-        c, s = np.cos(cyaw), np.sin(cyaw)
-        rgt = np.stack([c, s], axis=2)
-        fwd = np.stack([-s, c], axis=2)
+        rgt, fwd = geo.right_vectors(cyaw), geo.front_vectors(cyaw)
         # walkable covers are no obstacle (furniture stands on them); the rows standing in
         # some sample's room, and which stand in each one's
         rows, sets = _rooms(placed)

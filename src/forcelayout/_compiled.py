@@ -188,9 +188,6 @@ def _compile(*, required: bool) -> SimpleNamespace | None:
                     odd = not odd
         out[0] = odd
 
-    # the generalised ufuncs themselves: numba's wrapper only adds a check for array
-    # wrappers (dask's) that these inputs never are, about a third of a small call's time
-    return SimpleNamespace(obb_separation=obb_separation.ufunc, obb_gap=obb_gap.ufunc,
-                           footprint_dist2=footprint_dist2,
-                           contains_boxes=contains_boxes.ufunc,
-                           contains_points=contains_points.ufunc)
+    return SimpleNamespace(obb_separation=obb_separation, obb_gap=obb_gap,
+                           footprint_dist2=footprint_dist2, contains_boxes=contains_boxes,
+                           contains_points=contains_points)

@@ -82,6 +82,51 @@ def _axes_of(boxes: list[tuple[float, ...]]) -> tuple[np.ndarray, ...]:
     return b[:, :2], right_vectors(yaw), front_vectors(yaw), b[:, 3:]
 
 
+_CALL_EVERY_KERNEL = """
+import numpy as np
+from forcelayout._compiled import kernels
+k = kernels()
+assert k is not None
+v = np.random.default_rng(0).random((7, 5, 2))
+walls = np.array([[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [0.0, 3.0]])
+ends = np.roll(walls, -1, axis=0)
+normal = np.array([[0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [1.0, 0.0]])
+k.obb_separation(*v)
+k.obb_gap(*v)
+k.contains_points(3.0 * v[0], walls, ends)
+k.contains_boxes(3.0 * v[:, :4], walls, ends, normal)
+x = np.linspace(0.0, 1.0, 4, dtype=np.float32)
+k.footprint_dist2(x, x, x[:1], x[:1], x[:1], x[:1], x[:1], x[:1])
+print("ok")
+"""
+
+
+def test_compiled_kernels_load_whole_after_processes_compiled_them_at_once(tmp_path):
+    """Processes that compile the kernels at once into an empty cache (a pool's workers on
+    a fresh install) leave a cache every later process loads and calls: without the lock
+    they compile under, numba could pair one process's kernel with another's wrapper and
+    every later call crashed the process (three processes at once, about one time in four)."""
+    import os
+    import subprocess
+    import sys
+
+    pytest.importorskip("numba")
+    from forcelayout import _compiled
+
+    for trial in range(4):  # the race, without the lock, struck one trial in four or five
+        env = {**os.environ, _compiled.ENV: "1",
+               "NUMBA_CACHE_DIR": str(tmp_path / f"cache{trial}")}
+        runs = [subprocess.Popen([sys.executable, "-c", _CALL_EVERY_KERNEL], env=env,
+                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                for _ in range(3)]
+        for run in runs:
+            out, err = run.communicate(timeout=900)
+            assert run.returncode == 0 and out.strip() == "ok", err[-2000:]
+        later = subprocess.run([sys.executable, "-c", _CALL_EVERY_KERNEL], env=env,
+                               capture_output=True, text=True, timeout=900)
+        assert later.returncode == 0 and later.stdout.strip() == "ok", later.stderr[-2000:]
+
+
 @settings(max_examples=100, deadline=None)
 @given(boxes=st.lists(box, min_size=1, max_size=7), others=st.lists(box, min_size=1, max_size=5))
 def test_compiled_kernels_equal_the_numpy_forms_bit_for_bit(boxes, others):

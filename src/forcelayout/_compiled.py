@@ -17,7 +17,10 @@ is installed.
 
 The kernels compile on first use and numba caches the machine code on disk
 (next to this file, or in the user's cache directory where that is not
-writable), so later processes load it in about half a second. The
+writable), so later processes load it in about half a second. Processes
+compile or load it one at a time, under a lock file in the temporary folder:
+two that compiled at once could leave a cache that crashed every later
+process (:func:`_one_at_a_time`). The
 environment variable ``FORCELAYOUT_COMPILED`` chooses: unset, the kernels
 are used when numba is installed; ``0``, the numpy forms are used even
 then; ``1``, numba is required (an ImportError names the extra).
@@ -27,6 +30,10 @@ from __future__ import annotations
 
 import math
 import os
+import tempfile
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from types import SimpleNamespace
 from typing import Any
 
@@ -52,15 +59,75 @@ def kernels() -> SimpleNamespace | None:
     return _LOADED[0]
 
 
+#: Seconds a process waits for another that compiles the kernels before it compiles them
+#: without waiting any longer.
+_LOCK_WAIT = 300.0
+
+
+@contextmanager
+def _one_at_a_time() -> Iterator[None]:
+    """Holds a lock file that processes of this machine compile (or load) the kernels under,
+    one at a time.
+
+    numba's cache of a generalised ufunc is two files, the kernel's and its
+    wrapper's, and the wrapper names the kernel by a version tag that counts
+    the functions the process has compiled so far. Two processes that compile
+    at once (the workers of a pool on a fresh install, finding the other's
+    kernels half written) can leave a wrapper of one beside a kernel of the
+    other: every later process that loads them calls a null pointer and
+    crashes (numba issue 10128). Under the lock, the first process compiles
+    every kernel and writes both files of each; the next ones load them.
+    Where no lock file can be opened (a read-only temporary folder, no
+    ``fcntl``), or the lock is held for longer than ``_LOCK_WAIT`` seconds,
+    the kernels are compiled without it.
+    """
+    try:
+        import fcntl
+    except ImportError:  # not a POSIX system
+        yield
+        return
+    path = os.path.join(tempfile.gettempdir(), "forcelayout-kernels.lock")
+    try:
+        handle = open(path, "a+")  # noqa: SIM115 - closed below, after the lock is released
+    except OSError:
+        yield
+        return
+    held = False
+    try:
+        deadline = time.monotonic() + _LOCK_WAIT
+        while True:
+            try:
+                fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+                held = True
+                break
+            except OSError:
+                if time.monotonic() > deadline:
+                    break
+                time.sleep(0.05)
+        yield
+    finally:
+        if held:
+            fcntl.flock(handle.fileno(), fcntl.LOCK_UN)
+        handle.close()
+
+
 def _compile(*, required: bool) -> SimpleNamespace | None:
     try:
-        from numba import boolean, float32, float64, guvectorize, njit
+        import numba  # noqa: F401 - only whether it is installed
     except ImportError:
         if required:
             from forcelayout._optional import import_optional
 
             import_optional("numba", "fast")  # raises, naming the extra
         return None
+    with _one_at_a_time():
+        return _build()
+
+
+def _build() -> SimpleNamespace:
+    """Compiles the kernels, or loads them from numba's cache."""
+    from numba import boolean, float32, float64, guvectorize, njit
+
     sig = [(float64[:],) * 8]
     layout = "(n),(n),(n),(n),(n),(n),(n)->()"
 

@@ -222,6 +222,46 @@ def test_a_run_gives_up_early_on_a_rule_no_sample_meets():
     assert res.attempted == 12 and res.stopped_early is None
 
 
+#: A 3 x 3 m bedroom of eight objects, 58 % of its floor taken: every sample short of free
+#: floor, the estimate "tight" (about 0 % free if the objects stood apart).
+TIGHT = {"name": "tight_bedroom", "room": {
+    "polygon": [[0, 0], [3.0, 0], [3.0, 3.0], [0, 3.0]],
+    "doors": [{"wall": 0, "offset": 2.2, "width": 0.8}],
+    "windows": [{"wall": 2, "offset": 1.0, "width": 1.0}]},
+    "objects": [{"id": "bed", "category": "bed", "size": [1.4, 2.0, 0.5], "primary": True},
+                {"id": "nightstand_1", "category": "nightstand", "size": [0.4, 0.4, 0.5]},
+                {"id": "nightstand_2", "category": "nightstand", "size": [0.4, 0.4, 0.5]},
+                {"id": "wardrobe", "category": "wardrobe", "size": [1.2, 0.6, 2.0],
+                 "primary": True},
+                {"id": "desk", "category": "desk", "size": [1.0, 0.5, 0.75], "primary": True},
+                {"id": "chair", "category": "chair", "size": [0.45, 0.5, 0.85]},
+                {"id": "dresser", "category": "dresser", "size": [0.9, 0.45, 0.8]},
+                {"id": "bookshelf", "category": "bookshelf", "size": [0.8, 0.3, 1.8]}],
+    "rules": [{"rule": "at_wall", "object": "bed"},
+              {"rule": "next_to", "object": "nightstand_1", "target": "bed"},
+              {"rule": "next_to", "object": "nightstand_2", "target": "bed"},
+              {"rule": "at_wall", "object": "wardrobe"}, {"rule": "at_wall", "object": "desk"},
+              {"rule": "in_front_of", "object": "chair", "target": "desk"},
+              {"rule": "at_wall", "object": "dresser"},
+              {"rule": "at_wall", "object": "bookshelf"}]}
+
+
+def test_a_run_gives_up_early_on_a_tight_room_every_sample_finds_too_full():
+    """A plan the estimate finds tight on free floor, whose samples all fail ``navigable``:
+    with the default budget the run stops once it may (10 samples), and the hint names
+    the floor and the budget it stopped short of."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fl.generate(TIGHT, 4, seed=0)
+    assert res.feasibility.verdict == "tight"
+    assert len(res) == 0 and res.attempted == 10 and res.stopped_early == 24
+    assert all(any(f.startswith("navigable:") for f in r.failures) for r in res.reports)
+    hint = res.hint(cli=True)
+    assert "fail 'navigable'; before sampling the plan looked tight" in hint
+    assert hint.endswith(
+        "(stopped after 10 of 24 samples, none accepted: --max-attempts 24 draws them all)")
+
+
 def test_indexing_an_empty_generation_says_why(empty_run):
     res, _ = empty_run
     with pytest.raises(EmptyGenerationError) as info:

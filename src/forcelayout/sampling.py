@@ -441,11 +441,15 @@ class Generation:
 
     def _hopeless(self) -> bool:
         """Whether a run with nothing accepted yet may give up: the plan looked infeasible
-        before sampling, or nine in ten samples failed for their rules, one rule among them
-        nearly every time (:meth:`_never_met`)."""
+        before sampling, or tight on free floor with nine in ten samples short of it
+        (:meth:`_crowded`), or nine in ten samples failed for their rules, one rule among
+        them nearly every time (:meth:`_never_met`)."""
         if self.layouts:
             return False
         if self.feasibility is not None and self.feasibility.verdict == "infeasible":
+            return True
+        short = sum(any(f.startswith("navigable:") for f in r.failures) for r in self.reports)
+        if short >= 0.9 * len(self.reports) and self._crowded() is not None:
             return True
         ruled = sum(any(f.startswith("rules:") for f in r.failures) for r in self.reports)
         return ruled >= 0.9 * len(self.reports) and self._never_met() is not None

@@ -448,11 +448,15 @@ class Generation:
             return False
         if self.feasibility is not None and self.feasibility.verdict == "infeasible":
             return True
-        short = sum(any(f.startswith("navigable:") for f in r.failures) for r in self.reports)
+        short = self._failing("navigable")
         if short >= 0.9 * len(self.reports) and self._crowded() is not None:
             return True
-        ruled = sum(any(f.startswith("rules:") for f in r.failures) for r in self.reports)
+        ruled = self._failing("rules")
         return ruled >= 0.9 * len(self.reports) and self._never_met() is not None
+
+    def _failing(self, check: str) -> int:
+        """How many samples failed ``check`` (the word their failure lines begin with)."""
+        return sum(any(f.startswith(check + ":") for f in r.failures) for r in self.reports)
 
     def _crowded(self) -> str | None:
         """The feasibility note on too little free floor, where most samples failed the
@@ -460,7 +464,7 @@ class Generation:
         feas = self.feasibility
         if feas is None or feas.verdict != "tight" or not self.reports:
             return None
-        short = sum(any(f.startswith("navigable:") for f in r.failures) for r in self.reports)
+        short = self._failing("navigable")
         if short <= 0.5 * len(self.reports):
             return None
         return next((note for note in feas.notes if "of the floor free" in note), None)

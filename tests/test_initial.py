@@ -352,6 +352,28 @@ def test_a_child_in_front_of_its_parent_starts_as_far_as_a_rule_keeps_it():
         assert lay.gap("seat_1", "console") <= 1.0
 
 
+def test_a_child_near_its_parent_starts_anywhere_within_the_gap_its_rule_allows():
+    """``near`` within 1.5 m: a beanbag starts all round the TV stand up to about 1.5 m off
+    it, not only the few centimetres beyond touching where a rule allowing 0.3 m starts it
+    (it had started within 0.4 m whatever the distance, so the layouts a plan yields kept
+    what the rule lets apart closer together than the rule asks)."""
+    def plan(distance):
+        return fl.Plan.from_dict({
+            "name": "near",
+            "room": {"polygon": [[0, 0], [6, 0], [6, 5], [0, 5]], "height": 2.6},
+            "objects": [
+                {"id": "stand", "category": "tv_stand", "size": [1.2, 0.4, 0.5]},
+                {"id": "beanbag", "category": "beanbag", "size": [0.7, 0.7, 0.5]}],
+            "rules": [{"rule": "in_middle", "object": "stand"},
+                      {"rule": "near", "object": "beanbag", "target": "stand",
+                       "params": {"distance": distance}}]})
+    far = [lay.gap("beanbag", "stand") for lay in _start_layouts(plan(1.5), 40)]
+    close = [lay.gap("beanbag", "stand") for lay in _start_layouts(plan(0.3), 40)]
+    assert max(far) <= 1.6 and max(close) <= 0.45
+    assert np.percentile(far, 75) > 0.7  # spread over the distance, not bunched at contact
+    assert min(far) < 0.3
+
+
 def test_a_start_in_the_middle_spreads_over_the_share_the_rule_allows():
     plan = fl.Plan.from_dict({
         "name": "middle",

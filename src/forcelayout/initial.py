@@ -99,6 +99,9 @@ class _Wants:
     # per target row, the smallest footprint gap a rule asks of it (StartHint.least), metres:
     # kept where it starts in front of or behind that target
     apart: dict[int, float] = field(default_factory=dict)
+    # per target row it starts all round (a rule with StartHint.reach and no place: near),
+    # the largest footprint gap a rule allows, metres: the start's gap spreads over it
+    around: dict[int, float] = field(default_factory=dict)
     # per wall object hung on one wall the plan names that a close rule ties it to (a
     # teacher's desk near the whiteboard on the front wall): that wall, and how far (metres)
     # its footprint may be from the wall's line for the rule to be met
@@ -216,6 +219,10 @@ def _wants(model: ForceModel) -> list[_Wants]:
                 w.turns.add(hint.turn)
             if hint.reach is not None and hint.place in ("front", "back"):
                 w.gap = min(w.gap, float(getattr(g.params, hint.reach)[b]))
+            elif hint.reach is not None and hint.place is None:
+                if j >= 0:
+                    w.around[j] = min(w.around.get(j, np.inf),
+                                      float(getattr(g.params, hint.reach)[b]))
             elif hint.reach is not None:
                 w.reach = max(w.reach, float(getattr(g.params, hint.reach)[b]))
             if hint.least is not None and j >= 0:
@@ -637,7 +644,10 @@ def _child_candidates(room, draws: _Draws, k, wants: _Wants, q: np.ndarray, r, p
         cand = np.where(wide[..., None], across + rq * lat[..., None], cand)
         return _snap_to_wall(room, cand, half[r])
     ang = draws.uniform(-np.pi, np.pi, k)
-    dist = radius[q][:, None] * 0.8 + radius[r] + draws.uniform(0.0, spread, k)
+    # all round it, as far beyond touching as ``spread`` or, where farther, a rule's
+    # largest gap (a beanbag near the TV stand, within 1.5 m)
+    far = np.array([max(spread, wants.around.get(int(p), 0.0)) for p in q])[:, None]
+    dist = radius[q][:, None] * 0.8 + radius[r] + draws.random(k) * far
     cand = pq + dist[..., None] * np.stack([np.cos(ang), np.sin(ang)], axis=-1)
     if "wall" in places:
         return _snap_to_wall(room, cand, half[r])

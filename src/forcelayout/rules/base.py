@@ -91,7 +91,11 @@ class StartHint:
         of the room's extent from the centroid, per axis (``"fraction"`` of
         ``in_middle``); with ``place="front"`` or ``"back"``: the largest
         footprint gap to the target, metres (``"distance"`` of ``behind``):
-        the start's gap stays within it.
+        the start's gap stays within it; with no ``place`` and a ``parent``
+        (the object starts all round its target): the largest footprint gap
+        to that target, metres (``"distance"`` of ``near``): the start's gap
+        spreads over it (a beanbag anywhere up to 1.5 m from the TV stand,
+        not only beside it).
     least : str, optional
         The name of the rule's parameter that gives the smallest footprint
         gap to the target, metres (``"distance"`` of ``far_from``): an
@@ -142,10 +146,12 @@ class StartHint:
             raise ValueError(f"StartHint.place {self.place!r} is not one of {sorted(self.PLACES)}")
         if self.turn is not None and self.turn not in self.TURNS:
             raise ValueError(f"StartHint.turn {self.turn!r} is not one of {sorted(self.TURNS)}")
-        if self.reach is not None and self.place not in self.REACH_PLACES:
+        if self.reach is not None and self.place not in self.REACH_PLACES \
+                and not (self.place is None and self.parent is not None):
             raise ValueError("StartHint.reach bounds a start near an opening, the middle or "
                              "its target: give it with place='window', 'door', 'middle', "
-                             f"'front' or 'back', not place={self.place!r}")
+                             "'front' or 'back', or with parent=... and no place (all round "
+                             f"the target), not place={self.place!r}")
         if self.cone is not None and self.turn != "face_target":
             raise ValueError("StartHint.cone spreads a start over the angle its target may "
                              "lie at: give it with turn='face_target', not "

@@ -130,7 +130,7 @@ class Near(_Distance):
     closeness = "close"
 
     relation = True
-    start = StartHint(parent=6)
+    start = StartHint(parent=6, reach="distance")
     weight = 1.0
 
     class Params(Rule.Params):

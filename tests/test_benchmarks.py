@@ -89,7 +89,7 @@ def test_suite_quick(tmp_path: Path) -> None:
     assert f["samples"] == 3 and 0 <= f["yield_pct"] <= 100
     assert 1 <= b["tries"] <= 60 and b["accepted"] <= 3
     for side in (f, b):
-        for key in ("good_per_s", "geometric", "topological", "failures"):
+        for key in ("good_per_s", "geometric", "topological", "failures", "every_rule_pct"):
             assert key in side
     assert set(row["targets"]) == {"yield", "not_below_baseline", "diversity",
                                    "diversity_clearly_below", "speed"}
@@ -112,6 +112,11 @@ def test_suite_quick(tmp_path: Path) -> None:
         row["targets"]["diversity"] = False
         row["diversity_ratio"]["topological"] = [0.4, 0.6]
         assert "topo 0.50 [0.40, 0.60]" in markdown(result)
+        # and how often each sampler's good layouts meet every rule (a baseline may owe its
+        # diversity to a rule it leaves unmet)
+        row["forcelayout"]["every_rule_pct"], row["baseline"]["every_rule_pct"] = 100.0, 4.0
+        assert "every rule met in 100 % of its good layouts, the baseline's 4 %" \
+            in markdown(result)
 
 
 def test_suite_baseline_again(tmp_path: Path) -> None:

@@ -25,7 +25,8 @@ class NearPlant(Rule):
     """
 
     target = "required"  # every binding names the plant
-    start = StartHint(parent=6)  # start near the plant (a weak bond, like `near`)
+    # start near the plant, anywhere within `distance` of it (a weak bond, like `near`)
+    start = StartHint(parent=6, reach="distance")
     relation = True  # counted by the relational diversity metric
     closeness = "close"  # keeps the object close: contradicts far_from the same plant
     aliases = ("by_plant",)  # a near-miss name the plan autofix reads as this rule

@@ -109,14 +109,14 @@ def diversity(pairs: dict[str, np.ndarray | None]) -> dict[str, float | None]:
             for m, d in pairs.items()}
 
 
-def every_rule_pct(layouts: list[fl.Layout]) -> float | None:
-    """Percent of ``layouts`` that meet every rule (None for none): a good layout may
-    leave some unmet (``GOOD_RULES``), and a sampler that leaves one unmet in most of its
-    layouts may owe its diversity to it (a desk under the window, its wall shelf then
-    hung elsewhere)."""
-    if not layouts:
+def every_rule_pct(satisfaction: list[float]) -> float | None:
+    """Percent of layouts, given their shares of rules met, that meet every rule (None for
+    none): a good layout may leave some unmet (``GOOD_RULES``), and a sampler that leaves
+    one unmet in most of its layouts may owe its diversity to it (a desk under the window,
+    its wall shelf then hung elsewhere)."""
+    if not satisfaction:
         return None
-    return 100.0 * sum(lay.rule_satisfaction >= 1.0 for lay in layouts) / len(layouts)
+    return 100.0 * sum(s >= 1.0 for s in satisfaction) / len(satisfaction)
 
 
 def ratio_interval(a: np.ndarray, b: np.ndarray, *, resamples: int = RATIO_RESAMPLES,
@@ -176,7 +176,7 @@ def run_forcelayout(plan: fl.Plan, samples: int, seed: int, pairs_of: int, batch
         "good_per_s": len(good) / cpu if cpu > 0 else None,
         "ms_per_sample": 1000.0 * cpu / samples,
         "repaired_pct": 100.0 * repaired / samples if repaired_known else None,
-        "every_rule_pct": every_rule_pct(good),
+        "every_rule_pct": every_rule_pct([lay.report.rule_satisfaction for lay in good]),
         **diversity(pairs := dissimilarities(good, pairs_of)),
         "failures": dict(reasons.most_common()),
         "pairs": pairs,
@@ -196,7 +196,8 @@ def run_baseline(plan: fl.Plan, samples: int, tries: int, seed: int, pairs_of: i
         "yield_pct": 100.0 * res.yield_per_try if res.tries else None,
         "good_per_s": len(res) / cpu if cpu > 0 else None,
         "ms_per_try": 1000.0 * cpu / res.tries if res.tries else None,
-        "every_rule_pct": every_rule_pct(res.layouts),
+        # judged when accepted: no rule is judged again
+        "every_rule_pct": every_rule_pct([lay.rule_satisfaction for lay in res.layouts]),
         **diversity(pairs := dissimilarities(res.layouts, pairs_of)),
         "failures": dict(sorted(res.failures.items(), key=lambda kv: -kv[1])),
         "pairs": pairs,
